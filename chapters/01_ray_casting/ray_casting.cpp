@@ -1,0 +1,159 @@
+// Lesson 1: ray casting (see ray_casting.h for the model's equation).
+#include "ray_casting.h"
+
+#include "spawn.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace lessons {
+
+namespace {
+
+// A light as ray casting sees it: a point that sends intensity I towards the shaded point,
+// and the point a shadow ray must reach unobstructed.
+struct PointSource {
+    Vec3 position;
+    Color intensity;      // W/sr towards the shaded point
+    SurfacePoint shadow_target;  // normal zero for a point light, which lies on no surface
+};
+
+// Area light -> point source. A flat emitter of radiance L_e and area A sends intensity
+// I(theta) = L_e A cos(theta) in direction theta from its normal (Lambert's cosine law); a
+// sphere sends L_e pi r^2 in every direction. Exact far from the light; near it the finite size
+// matters (soft shadows, lesson 3).
+PointSource as_point_source(const AreaLight& light, const Scene& scene, const Vec3& p) {
+    PointSource s;
+    s.position = light.center;
+    if (light.prim.kind() == ShapeKind::Sphere) {
+        const float r = scene.spheres()[light.prim.index()].radius;
+        const Vec3 out = glm::normalize(p - light.center);
+        s.intensity = light.radiance * (kPi * r * r);
+        const Vec3 facing_point = light.center + r * out;  // the sphere's point facing p
+        s.shadow_target = {facing_point, gamma_bound(4) * (glm::abs(light.center) + Vec3(r)), out};
+        return s;
+    }
+    const float cos_light = glm::dot(light.normal, glm::normalize(p - light.center));
+    const float facing = light.two_sided ? std::fabs(cos_light) : std::fmax(cos_light, 0.0f);
+    s.intensity = light.radiance * (light.area * facing);
+    s.shadow_target = {light.center, light.center_error, light.normal};
+    return s;
+}
+
+// f(wo, wi) = k_d / pi + k_s (e + 8) / (8 pi) (n . h)^e, the normalised Blinn-Phong BRDF.
+Color blinn_phong(const LocalMaterial& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    Color f = m.k_d * kInvPi;
+    if (!is_black(m.k_s)) {
+        const Vec3 h = glm::normalize(wi + wo);
+        const float cos_h = std::fmax(glm::dot(n, h), 0.0f);
+        f += m.k_s * ((m.exponent + 8.0f) / (8.0f * kPi) * std::pow(cos_h, m.exponent));
+    }
+    return f;
+}
+
+// Adds f * I cos(theta_i) / d^2 from one point source, if the shadow ray reaches it.
+Color shade_from(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
+                 const Vec3& n, const PointSource& light) {
+    if (is_black(light.intensity)) return Color(0.0f);
+    Vec3 wi = light.position - si.p;
+    const float distance_squared = glm::dot(wi, wi);
+    if (!(distance_squared > 0.0f)) return Color(0.0f);
+    wi /= std::sqrt(distance_squared);
+    const float cos_i = glm::dot(n, wi);
+    if (cos_i <= 0.0f) return Color(0.0f);  // the light is behind the surface
+    const bool on_surface = glm::dot(light.shadow_target.n, light.shadow_target.n) > 0.0f;
+    const Ray shadow = on_surface ? spawn_ray_between(si.surface_point(), light.shadow_target)
+                                  : spawn_ray_to(si.surface_point(), light.shadow_target.p);
+    if (scene.occluded(shadow)) return Color(0.0f);
+    // Irradiance from a point source: E = I cos(theta_i) / d^2 (inverse-square law).
+    const Color irradiance = light.intensity * (cos_i / distance_squared);
+    return blinn_phong(m, n, si.wo, wi) * irradiance;
+}
+
+std::string rgb(const Color& c) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%g, %g, %g)", c.x, c.y, c.z);
+    return buf;
+}
+
+}  // namespace
+
+float blinn_phong_exponent(float roughness) {
+    return std::fmax(2.0f / (roughness * roughness) - 2.0f, 0.0f);
+}
+
+LocalMaterial local_material(const Material& m, const Vec2& uv) {
+    LocalMaterial l;
+    switch (m.type) {
+        case MaterialType::Diffuse: l.k_d = m.albedo.eval(uv); break;
+        case MaterialType::Glossy:
+            l.k_d = m.albedo.eval(uv);
+            l.k_s = m.specular;
+            l.exponent = blinn_phong_exponent(m.roughness);
+            break;
+        case MaterialType::Mirror: l.k_d = m.reflectance; break;
+        case MaterialType::Glass: l.k_d = Color(1.0f); break;
+    }
+    return l;
+}
+
+std::vector<std::string> local_material_notes(const Scene& scene) {
+    std::vector<std::string> notes;
+    for (const Material& m : scene.materials()) {
+        if (m.type == MaterialType::Mirror)
+            notes.push_back("material '" + m.name + "' (mirror): shaded as diffuse with albedo = " +
+                            "its reflectance " + rgb(m.reflectance) + "; no reflection");
+        if (m.type == MaterialType::Glass)
+            notes.push_back("material '" + m.name +
+                            "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
+                            "absorbs nothing); no refraction, no reflection");
+        if (m.type == MaterialType::Glossy)
+            notes.push_back("material '" + m.name + "' (glossy, roughness " +
+                            std::to_string(m.roughness) + "): Blinn-Phong highlight, exponent " +
+                            std::to_string(blinn_phong_exponent(m.roughness)) +
+                            "; no glossy reflection of other surfaces");
+    }
+    return notes;
+}
+
+Color direct_local(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
+                   const Vec3& n) {
+    Color L(0.0f);
+    for (const PointLight& light : scene.point_lights())
+        L += shade_from(scene, si, m, n,
+                        {light.position, light.intensity, {light.position, Vec3(0.0f), Vec3(0.0f)}});
+    for (const AreaLight& light : scene.area_lights()) {
+        if (light.prim == si.prim) continue;  // an emitter does not light itself
+        L += shade_from(scene, si, m, n, as_point_source(light, scene, si.p));
+    }
+    return L;
+}
+
+Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& options) {
+    const std::optional<Hit> hit = scene.intersect(ray);
+    if (!hit) return scene.background;  // the ray escapes: it sees the background
+    const SurfaceInteraction si = scene.interaction(ray, *hit);
+    const LocalMaterial m = local_material(scene.material(si.material), si.uv);
+    // Shade the side the ray arrived on: both normals turned towards the viewer.
+    const Vec3 n = si.front_face() ? si.n_shading : -si.n_shading;
+    // L = L_e + k_d L_a + sum over lights of f I cos / d^2 V.
+    return scene.emitted(si) + m.k_d * options.ambient + direct_local(scene, si, m, n);
+}
+
+Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options) {
+    Model model;
+    model.radiance = [&scene, options](const Ray& ray, Rng&) { return ray_cast(scene, ray, options); };
+    if (!scene.area_lights().empty())
+        model.notes.push_back(std::to_string(scene.area_lights().size()) +
+                              " emissive primitive(s): each treated as a point source at its "
+                              "centre with intensity L_e A cos(theta) (spheres L_e pi r^2); hard "
+                              "shadows, no soft penumbra");
+    for (const std::string& n : local_material_notes(scene)) model.notes.push_back(n);
+    model.notes.push_back("indirect light ignored; a constant ambient radiance L_a = " +
+                          rgb(options.ambient) + " stands in for it (--ambient)");
+    if (scene.point_lights().empty() && scene.area_lights().empty())
+        model.notes.push_back("the scene has no lights: only emission, ambient and background");
+    return model;
+}
+
+}  // namespace lessons

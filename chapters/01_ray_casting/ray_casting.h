@@ -1,0 +1,51 @@
+// Lesson 1: ray casting. One ray per pixel sample, the nearest hit, one shadow ray to each
+// light, and local shading:
+//
+//   L = L_e + k_d * L_a + sum over lights l of  f(wo, wi_l) * I_l cos(theta_i) / d_l^2 * V_l
+//
+//   f(wo, wi) = k_d / pi + k_s (e + 8) / (8 pi) * (n . h)^e      (Lambert + normalised Blinn-Phong)
+//
+// with L_a a constant ambient radiance standing in for all indirect light, I_l the light's
+// intensity towards the point, d_l its distance, V_l = 1 if the shadow ray reaches it.
+// Area lights are treated as point sources at their centre (hard shadows).
+#pragma once
+
+#include "app.h"
+#include "scene.h"
+
+#include <string>
+#include <vector>
+
+namespace lessons {
+
+// A material as the local model sees it: a diffuse and a Blinn-Phong reflectance.
+struct LocalMaterial {
+    Color k_d{0.0f};   // diffuse reflectance (albedo)
+    Color k_s{0.0f};   // specular reflectance of the highlight
+    float exponent = 1.0f;  // Blinn-Phong exponent e
+};
+
+// How the local model reads each material type; appends a note for each approximation.
+LocalMaterial local_material(const Material& m, const Vec2& uv);
+std::vector<std::string> local_material_notes(const Scene& scene);
+
+// The Blinn-Phong exponent matching microfacet roughness alpha: e = 2 / alpha^2 - 2, the
+// exponent whose lobe has the same width as a Beckmann distribution of that roughness
+// (Walter et al. 2007).
+float blinn_phong_exponent(float roughness);
+
+// Direct light from every light in the scene, each treated as a point source, with one shadow
+// ray each: the sum over lights of f * I cos / d^2 * V.
+Color direct_local(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
+                   const Vec3& n);
+
+struct RayCastingOptions {
+    Color ambient{0.0f};  // L_a, radiance
+};
+
+// The radiance along a camera ray in the ray-casting model.
+Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& options);
+
+Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options);
+
+}  // namespace lessons

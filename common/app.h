@@ -1,0 +1,63 @@
+// The plumbing every lesson shares: command line, scene loading, rendering, writing the image
+// and the report. A lesson's main() describes the lesson and its illumination model; this runs it.
+#pragma once
+
+#include "render.h"
+#include "scene.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace lessons {
+
+// A lesson's illumination model, made for one scene.
+struct Model {
+    RadianceFn radiance;
+    // One line per thing the model approximates or ignores in this scene, printed before the
+    // render and stored in the report.
+    std::vector<std::string> notes;
+};
+
+struct Lesson {
+    std::string name;         // e.g. "01_ray_casting": the executable and the report's "chapter"
+    std::string description;  // first line of --help
+    int default_spp = 1;
+    std::function<void(CLI::App&)> add_options;    // the lesson's own flags (may be empty)
+    std::function<Model(const Scene&)> make_model;  // throws InputError if the scene cannot be shown
+};
+
+// The common options, as parsed from the command line.
+struct CommonOptions {
+    std::string scene = "scenes/cornell_box.toml";
+    std::string out;  // output prefix; default out/<lesson>_<scene name>
+    int spp = 0;      // 0: the lesson's default
+    int width = 0, height = 0;
+    int threads = 0;
+    uint64_t seed = 0;
+    std::string report;
+    float exposure = 0.0f;
+    bool quiet = false;
+};
+
+// Parses the command line, renders, writes <out>.exr, <out>.png and the report.
+// Exit codes: 0 done; 1 a failure while writing output; 2 bad input (command line, scene file,
+// mesh), reported on one line naming the file, line and field.
+int run_lesson(int argc, char** argv, const Lesson& lesson);
+
+// Render one scene with a model, as run_lesson does, without the command line (for tests).
+struct RenderResult {
+    Image image;
+    Image variance;
+    RenderStats stats;
+    int nan_pixels = 0, inf_pixels = 0;
+    uint64_t nan_samples = 0, inf_samples = 0;
+};
+RenderResult render_scene(const Scene& scene, const Model& model, int spp,
+                          const RenderSettings& settings);
+
+}  // namespace lessons

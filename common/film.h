@@ -1,0 +1,51 @@
+// The film: per-pixel accumulation of radiance samples into a mean and its variance.
+//
+// A pixel's value is the Monte Carlo estimate (1/N) sum_k L_k of the radiance through it. Sums
+// are kept in double so that very long renders (references) do not lose small samples. Samples
+// that are NaN or infinite are never averaged in: they are counted, reported, and left out.
+#pragma once
+
+#include "image.h"
+#include "math.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace lessons {
+
+class Film {
+public:
+    Film() = default;
+    Film(int width, int height);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+    // Adds one radiance sample to pixel `index` (row-major). Called by one thread per pixel.
+    void add_sample(size_t index, const Color& radiance);
+
+    // The per-pixel mean of the valid samples.
+    Image mean() const;
+    // The per-pixel sample variance of the mean, s^2 / N (zero with fewer than two samples).
+    Image variance_of_mean() const;
+
+    uint64_t nan_samples() const;
+    uint64_t inf_samples() const;
+    int nan_pixels() const;  // pixels that received at least one NaN sample
+    int inf_pixels() const;  // pixels that received at least one infinite sample
+
+private:
+    struct Pixel {
+        glm::dvec3 sum{0.0};
+        glm::dvec3 sum_squares{0.0};
+        uint32_t valid = 0;
+        uint32_t nan = 0;
+        uint32_t inf = 0;
+    };
+    int width_ = 0, height_ = 0;
+    std::vector<Pixel> pixels_;
+};
+
+}  // namespace lessons

@@ -1,0 +1,56 @@
+#include "input_error.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace lessons {
+
+namespace {
+std::string format(const std::string& file, int line, const std::string& field,
+                   const std::string& message) {
+    std::string s = file;
+    if (line > 0) s.append(":").append(std::to_string(line));
+    s.append(": ");
+    if (!field.empty()) s.append(field).append(": ");
+    return s.append(message);
+}
+
+// Levenshtein distance, case-insensitive.
+size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t above = row[j];
+            const bool same = std::tolower(a[i - 1]) == std::tolower(b[j - 1]);
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+}  // namespace
+
+InputError::InputError(const std::string& file, int line, const std::string& field,
+                       const std::string& message)
+    : std::runtime_error(format(file, line, field, message)),
+      file_(file),
+      line_(line),
+      field_(field) {}
+
+std::string closest_match(const std::string& word, std::span<const std::string> candidates) {
+    std::string best;
+    size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
+    for (const std::string& c : candidates) {
+        const size_t d = edit_distance(word, c);
+        if (d < best_distance) {
+            best_distance = d;
+            best = c;
+        }
+    }
+    return best;
+}
+
+}  // namespace lessons

@@ -1,0 +1,72 @@
+#include "render.h"
+
+#include "progress.h"
+#include "scene.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+namespace lessons {
+
+namespace {
+constexpr int kTileSize = 16;
+}
+
+int resolve_thread_count(int requested) {
+    if (requested > 0) return requested;
+    return std::max(1u, std::thread::hardware_concurrency());
+}
+
+RenderStats render(const Camera& camera, Film& film, const RenderSettings& settings,
+                   const RadianceFn& radiance, int sample_begin, int sample_end) {
+    const auto start = std::chrono::steady_clock::now();
+    const int width = film.width(), height = film.height();
+    const int tiles_x = (width + kTileSize - 1) / kTileSize;
+    const int tiles_y = (height + kTileSize - 1) / kTileSize;
+    const int tile_count = tiles_x * tiles_y;
+    const int samples = std::max(0, sample_end - sample_begin);
+
+    Progress progress("render", static_cast<uint64_t>(width) * height * samples,
+                      settings.progress);
+    std::atomic<int> next_tile{0};
+    std::atomic<uint64_t> rays{0};
+
+    auto worker = [&]() {
+        const uint64_t rays_before = rays_traced_by_this_thread();
+        for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
+            const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
+            const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+            for (int y = y0; y < y1; ++y) {
+                for (int x = x0; x < x1; ++x) {
+                    const size_t pixel = static_cast<size_t>(y) * width + x;
+                    for (int s = sample_begin; s < sample_end; ++s) {
+                        Rng rng(settings.seed, pixel, static_cast<uint64_t>(s));
+                        const float jx = settings.jitter ? rng.uniform() : 0.5f;
+                        const float jy = settings.jitter ? rng.uniform() : 0.5f;
+                        const Ray ray = camera.generate_ray(x + jx, y + jy, width, height);
+                        film.add_sample(pixel, radiance(ray, rng));
+                    }
+                }
+            }
+            progress.advance(static_cast<uint64_t>(x1 - x0) * (y1 - y0) * samples);
+        }
+        rays += rays_traced_by_this_thread() - rays_before;
+    };
+
+    const int threads = std::min(resolve_thread_count(settings.threads), std::max(1, tile_count));
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    progress.finish();
+
+    RenderStats stats;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.rays = rays.load();
+    return stats;
+}
+
+}  // namespace lessons

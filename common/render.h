@@ -1,0 +1,41 @@
+// The render loop: every pixel sample through a lesson's radiance function, on all cores.
+//
+// The image is cut into 16x16 tiles that worker threads take in turn. Each pixel sample k of
+// pixel i draws its random numbers from Rng(seed, i, k), and a pixel's samples are always added
+// in the order k = 0, 1, 2, ..., by whichever thread holds its tile; so the image is bit for bit
+// the same for any number of threads, and for any split of the samples into passes.
+#pragma once
+
+#include "camera.h"
+#include "film.h"
+#include "math.h"
+#include "rng.h"
+
+#include <cstdint>
+#include <functional>
+
+namespace lessons {
+
+// A lesson's illumination model: the radiance arriving at the camera along a primary ray.
+// Random numbers, if the model needs any, come from `rng`.
+using RadianceFn = std::function<Color(const Ray& ray, Rng& rng)>;
+
+struct RenderSettings {
+    int threads = 0;       // 0: one per hardware thread
+    uint64_t seed = 0;
+    bool jitter = true;    // uniformly jittered position in the pixel; false: the pixel center
+    bool progress = true;  // progress on stderr
+};
+
+struct RenderStats {
+    double seconds = 0.0;
+    uint64_t rays = 0;  // rays traced (primary, shadow and secondary)
+};
+
+// Adds samples [sample_begin, sample_end) of every pixel to the film.
+RenderStats render(const Camera& camera, Film& film, const RenderSettings& settings,
+                   const RadianceFn& radiance, int sample_begin, int sample_end);
+
+int resolve_thread_count(int requested);
+
+}  // namespace lessons

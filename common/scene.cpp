@@ -1,0 +1,232 @@
+// Scene construction, ray queries through the BVH, and hit descriptions.
+#include "scene.h"
+
+#include <cmath>
+
+namespace lessons {
+
+namespace {
+thread_local uint64_t t_rays_traced = 0;
+}
+
+uint64_t rays_traced_by_this_thread() { return t_rays_traced; }
+
+const char* material_type_name(MaterialType t) {
+    switch (t) {
+        case MaterialType::Diffuse: return "diffuse";
+        case MaterialType::Glossy: return "glossy";
+        case MaterialType::Mirror: return "mirror";
+        case MaterialType::Glass: return "glass";
+    }
+    return "?";
+}
+
+uint32_t Scene::add_material(const Material& m) {
+    materials_.push_back(m);
+    return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+void Scene::add_sphere(const Sphere& s, uint32_t material) {
+    spheres_.push_back(s);
+    sphere_materials_.push_back(material);
+}
+
+void Scene::add_quad(const Quad& q, uint32_t material) {
+    quads_.push_back(q);
+    quad_materials_.push_back(material);
+}
+
+void Scene::add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                     const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles) {
+    const uint32_t base = static_cast<uint32_t>(positions_.size());
+    // Vertex attributes are stored only once some mesh has them; meshes without are padded.
+    if (!normals.empty() || !normals_.empty()) {
+        normals_.resize(base, Vec3(0.0f));
+        if (normals.empty())
+            normals_.resize(base + positions.size(), Vec3(0.0f));
+        else
+            normals_.insert(normals_.end(), normals.begin(), normals.end());
+    }
+    if (!uvs.empty() || !uvs_.empty()) {
+        uvs_.resize(base, Vec2(0.0f));
+        if (uvs.empty())
+            uvs_.resize(base + positions.size(), Vec2(0.0f));
+        else
+            uvs_.insert(uvs_.end(), uvs.begin(), uvs.end());
+    }
+    positions_.insert(positions_.end(), positions.begin(), positions.end());
+    for (Triangle t : triangles) {
+        for (uint32_t& v : t.v) v += base;
+        t.smooth = t.smooth && !normals.empty();
+        triangles_.push_back(t);
+    }
+}
+
+uint32_t Scene::material_of(PrimRef prim) const {
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: return sphere_materials_[prim.index()];
+        case ShapeKind::Quad: return quad_materials_[prim.index()];
+        case ShapeKind::Triangle: return triangles_[prim.index()].material;
+    }
+    return 0;
+}
+
+Bounds3 Scene::primitive_bounds(PrimRef prim) const {
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: return spheres_[prim.index()].bounds();
+        case ShapeKind::Quad: return quads_[prim.index()].bounds();
+        case ShapeKind::Triangle: {
+            const Triangle& t = triangles_[prim.index()];
+            Bounds3 b;
+            for (uint32_t v : t.v) b.expand(positions_[v]);
+            return b;
+        }
+    }
+    return {};
+}
+
+void Scene::commit() {
+    prims_.clear();
+    for (uint32_t i = 0; i < spheres_.size(); ++i) prims_.emplace_back(ShapeKind::Sphere, i);
+    for (uint32_t i = 0; i < quads_.size(); ++i) prims_.emplace_back(ShapeKind::Quad, i);
+    for (uint32_t i = 0; i < triangles_.size(); ++i) prims_.emplace_back(ShapeKind::Triangle, i);
+    std::vector<Bounds3> boxes;
+    boxes.reserve(prims_.size());
+    for (PrimRef p : prims_) boxes.push_back(primitive_bounds(p));
+    bvh_ = Bvh(boxes);
+
+    area_lights_.clear();
+    for (PrimRef p : prims_) {
+        const uint32_t m = material_of(p);
+        if (!materials_[m].is_emissive()) continue;
+        AreaLight light{p,          m,          materials_[m].emission, materials_[m].two_sided,
+                        0.0f,       Vec3(0.0f), Vec3(0.0f),             Vec3(0.0f)};
+        switch (p.kind()) {
+            case ShapeKind::Sphere: {
+                const Sphere& s = spheres_[p.index()];
+                light.area = s.area();
+                light.center = s.center;
+                break;
+            }
+            case ShapeKind::Quad: {
+                const Quad& q = quads_[p.index()];
+                light.area = q.area();
+                light.center = q.center();
+                light.center_error = gamma_bound(4) * (glm::abs(q.corner) + glm::abs(q.edge_u) +
+                                                       glm::abs(q.edge_v));
+                light.normal = q.normal;
+                break;
+            }
+            case ShapeKind::Triangle: {
+                const Triangle& t = triangles_[p.index()];
+                const Vec3 &a = positions_[t.v[0]], &b = positions_[t.v[1]],
+                           &c = positions_[t.v[2]];
+                const Vec3 n = glm::cross(b - a, c - a);
+                light.area = 0.5f * glm::length(n);
+                light.center = (a + b + c) / 3.0f;
+                light.center_error =
+                    gamma_bound(4) * (glm::abs(a) + glm::abs(b) + glm::abs(c));
+                light.normal = light.area > 0.0f ? glm::normalize(n) : Vec3(0.0f);
+                break;
+            }
+        }
+        if (light.area > 0.0f) area_lights_.push_back(light);
+    }
+}
+
+bool Scene::intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRay& wr,
+                                float t_max, ShapeHit& hit) const {
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: {
+            Ray r = ray;
+            r.t_max = t_max;
+            return intersect_sphere(spheres_[prim.index()], r, hit);
+        }
+        case ShapeKind::Quad: {
+            Ray r = ray;
+            r.t_max = t_max;
+            return intersect_quad(quads_[prim.index()], r, hit);
+        }
+        case ShapeKind::Triangle: {
+            const Triangle& t = triangles_[prim.index()];
+            return intersect_triangle(wr, positions_[t.v[0]], positions_[t.v[1]],
+                                      positions_[t.v[2]], t_max, hit);
+        }
+    }
+    return false;
+}
+
+std::optional<Hit> Scene::intersect(const Ray& ray) const {
+    ++t_rays_traced;
+    const WatertightRay wr(ray);
+    Hit best;
+    const bool found = bvh_.closest_hit(ray, [&](uint32_t i, float& t_max) {
+        ShapeHit h;
+        if (!intersect_primitive(prims_[i], ray, wr, t_max, h)) return false;
+        t_max = h.t;
+        best = {h, prims_[i]};
+        return true;
+    });
+    if (!found) return std::nullopt;
+    return best;
+}
+
+bool Scene::occluded(const Ray& ray) const {
+    ++t_rays_traced;
+    const WatertightRay wr(ray);
+    return bvh_.any_hit(ray, [&](uint32_t i) {
+        ShapeHit h;
+        return intersect_primitive(prims_[i], ray, wr, ray.t_max, h);
+    });
+}
+
+SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
+    SurfaceGeometry g;
+    switch (hit.prim.kind()) {
+        case ShapeKind::Sphere: g = sphere_surface(spheres_[hit.prim.index()], ray, hit.shape); break;
+        case ShapeKind::Quad: g = quad_surface(quads_[hit.prim.index()], hit.shape); break;
+        case ShapeKind::Triangle: {
+            const Triangle& t = triangles_[hit.prim.index()];
+            const float b1 = hit.shape.u, b2 = hit.shape.v, b0 = 1.0f - b1 - b2;
+            const Vec3 &p0 = positions_[t.v[0]], &p1 = positions_[t.v[1]], &p2 = positions_[t.v[2]];
+            // Barycentric interpolation: the point's error is bounded by the vertices', not by
+            // the length of the ray.
+            g.p = b0 * p0 + b1 * p1 + b2 * p2;
+            g.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
+            g.n_geo = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+            g.n_shading = g.n_geo;
+            if (t.smooth) {
+                const Vec3 n = b0 * normals_[t.v[0]] + b1 * normals_[t.v[1]] + b2 * normals_[t.v[2]];
+                const float len = glm::length(n);
+                if (len > 0.0f && std::isfinite(len)) {
+                    g.n_shading = n / len;
+                    // Keep the shading normal on the geometric normal's side.
+                    if (glm::dot(g.n_shading, g.n_geo) < 0.0f) g.n_shading = -g.n_shading;
+                }
+            }
+            g.uv = uvs_.empty() ? Vec2(b1, b2)
+                                : b0 * uvs_[t.v[0]] + b1 * uvs_[t.v[1]] + b2 * uvs_[t.v[2]];
+            break;
+        }
+    }
+    SurfaceInteraction si;
+    si.p = g.p;
+    si.p_error = g.p_error;
+    si.n_geo = g.n_geo;
+    si.n_shading = g.n_shading;
+    si.uv = g.uv;
+    si.wo = -glm::normalize(ray.dir);
+    si.t = hit.shape.t;
+    si.material = material_of(hit.prim);
+    si.prim = hit.prim;
+    return si;
+}
+
+Color Scene::emitted(const SurfaceInteraction& si) const {
+    const Material& m = materials_[si.material];
+    if (!m.is_emissive()) return Color(0.0f);
+    if (!m.two_sided && !si.front_face()) return Color(0.0f);
+    return m.emission;
+}
+
+}  // namespace lessons

@@ -1,0 +1,146 @@
+// The scene: shapes, materials, lights, camera and the BVH over all shapes.
+//
+// Shapes are kept in one array per kind (spheres, quads, triangles), so a scene of spheres pays
+// only for spheres; a primitive is named by a PrimRef (kind and index). Lessons ask two
+// questions of a scene: the nearest hit along a ray (intersect) and whether anything lies on a
+// segment (occluded). The full description of a hit (interaction) is computed once, for the
+// nearest hit only.
+#pragma once
+
+#include "bvh.h"
+#include "camera.h"
+#include "material.h"
+#include "math.h"
+#include "shapes.h"
+#include "spawn.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lessons {
+
+enum class ShapeKind : uint32_t { Sphere = 0, Quad = 1, Triangle = 2 };
+
+// A primitive: its kind in the top two bits, its index in that kind's array below.
+struct PrimRef {
+    uint32_t bits = 0;
+    PrimRef() = default;
+    PrimRef(ShapeKind kind, uint32_t index) : bits((static_cast<uint32_t>(kind) << 30) | index) {}
+    ShapeKind kind() const { return static_cast<ShapeKind>(bits >> 30); }
+    uint32_t index() const { return bits & 0x3fffffffu; }
+    bool operator==(const PrimRef&) const = default;
+};
+
+// One triangle of a mesh: three indices into the scene's vertex arrays.
+struct Triangle {
+    uint32_t v[3];
+    uint32_t material;
+    bool smooth;  // interpolate the vertex normals for shading
+};
+
+struct Hit {
+    ShapeHit shape;  // t and surface parameters
+    PrimRef prim;
+};
+
+// Everything a lesson needs to shade a hit point.
+struct SurfaceInteraction {
+    Vec3 p;          // position
+    Vec3 p_error;    // per-axis bound on the rounding error of p (for spawning rays)
+    Vec3 n_geo;      // unit geometric normal, the shape's outward (front) side
+    Vec3 n_shading;  // unit shading normal, same side as n_geo
+    Vec2 uv;         // texture coordinates
+    Vec3 wo;         // unit direction back along the incoming ray (points away from the surface)
+    float t;         // ray parameter of the hit
+    uint32_t material;
+    PrimRef prim;
+
+    bool front_face() const { return glm::dot(n_geo, wo) > 0.0f; }
+    SurfacePoint surface_point() const { return {p, p_error, n_geo}; }
+};
+
+struct PointLight {
+    Vec3 position;
+    Color intensity;  // radiant intensity, W/sr, the same in every direction
+};
+
+// An emissive surface. Its radiance comes from its material; the geometry summary here is
+// what every lesson needs to treat it as a light.
+struct AreaLight {
+    PrimRef prim;
+    uint32_t material;
+    Color radiance;   // emitted radiance L_e, W / (sr m^2)
+    bool two_sided;
+    float area;       // m^2
+    Vec3 center;      // centroid (sphere: its center)
+    Vec3 center_error;  // rounding-error bound of center (for shadow rays ending on it)
+    Vec3 normal;      // unit emitting normal (zero for spheres, which emit all around)
+};
+
+// Rays traced by the calling thread since it started: the render loop reads the difference.
+uint64_t rays_traced_by_this_thread();
+
+class Scene {
+public:
+    // ---- building ----
+    uint32_t add_material(const Material& m);
+    void add_sphere(const Sphere& s, uint32_t material);
+    void add_quad(const Quad& q, uint32_t material);
+    // Appends vertices and triangles. normals: empty, or one unit normal per position.
+    // uvs: empty, or one per position. Triangles index the given positions from 0.
+    void add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                  const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles);
+    void add_point_light(const PointLight& l) { point_lights_.push_back(l); }
+    // Builds the BVH and the list of area lights. Call once, after adding every shape.
+    void commit();
+
+    // ---- queries ----
+    std::optional<Hit> intersect(const Ray& ray) const;
+    bool occluded(const Ray& ray) const;
+    SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
+    // Emitted radiance L_e(p, wo) leaving the hit point towards wo.
+    Color emitted(const SurfaceInteraction& si) const;
+
+    // ---- contents ----
+    const std::vector<Material>& materials() const { return materials_; }
+    const Material& material(uint32_t i) const { return materials_[i]; }
+    const std::vector<PointLight>& point_lights() const { return point_lights_; }
+    const std::vector<AreaLight>& area_lights() const { return area_lights_; }
+    const std::vector<Sphere>& spheres() const { return spheres_; }
+    const std::vector<Quad>& quads() const { return quads_; }
+    const std::vector<Triangle>& triangles() const { return triangles_; }
+    const std::vector<Vec3>& positions() const { return positions_; }
+    const Bvh& bvh() const { return bvh_; }
+    size_t primitive_count() const { return spheres_.size() + quads_.size() + triangles_.size(); }
+    uint32_t material_of(PrimRef prim) const;
+    Bounds3 primitive_bounds(PrimRef prim) const;
+    Bounds3 bounds() const { return bvh_.bounds(); }
+
+    // ---- what is seen and how ----
+    Camera camera;
+    int width = 0, height = 0;
+    Color background{0.0f};  // radiance of every ray that escapes the scene
+    std::string source;      // the file it came from, for messages and reports
+
+private:
+    bool intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRay& wr, float t_max,
+                             ShapeHit& hit) const;
+
+    std::vector<Material> materials_;
+    std::vector<Sphere> spheres_;
+    std::vector<uint32_t> sphere_materials_;
+    std::vector<Quad> quads_;
+    std::vector<uint32_t> quad_materials_;
+    std::vector<Vec3> positions_;
+    std::vector<Vec3> normals_;  // empty, or one per position
+    std::vector<Vec2> uvs_;      // empty, or one per position
+    std::vector<Triangle> triangles_;
+    std::vector<PrimRef> prims_;  // BVH primitive index -> PrimRef
+    std::vector<PointLight> point_lights_;
+    std::vector<AreaLight> area_lights_;
+    Bvh bvh_;
+};
+
+}  // namespace lessons

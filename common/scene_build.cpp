@@ -1,0 +1,127 @@
+// Stage 2 of scene loading: SceneDescription -> Scene.
+#include "input_error.h"
+#include "mesh_file.h"
+#include "scene_file.h"
+
+#include <iostream>
+#include <map>
+
+namespace lessons {
+
+namespace {
+
+void add_polygon_mesh(Scene& scene, const ShapeDescription& s, uint32_t material) {
+    std::vector<Triangle> triangles;
+    int degenerate = 0;
+    for (const auto& face : s.faces) {
+        // Convex planar polygons are split into a fan of triangles around their first vertex.
+        for (size_t k = 1; k + 1 < face.size(); ++k) {
+            const Vec3 &a = s.vertices[face[0]], &b = s.vertices[face[k]],
+                       &c = s.vertices[face[k + 1]];
+            const Vec3 n = glm::cross(b - a, c - a);
+            if (!(glm::dot(n, n) > 0.0f)) {
+                ++degenerate;
+                continue;
+            }
+            triangles.push_back({{face[0], face[k], face[k + 1]}, material, false});
+        }
+    }
+    if (degenerate > 0)
+        std::cerr << "warning: " << s.where.file << ":" << s.where.line << ": " << s.where.field
+                  << ": skipped " << degenerate << " zero-area triangle(s)\n";
+    if (triangles.empty())
+        throw InputError(s.where.file, s.where.line, s.where.field + ".faces",
+                         "every face has zero area");
+    scene.add_mesh(s.vertices, {}, {}, triangles);
+}
+
+void add_obj_mesh(Scene& scene, const ShapeDescription& s,
+                  const std::map<std::string, uint32_t>& material_ids, int override_material) {
+    MeshData mesh;
+    try {
+        mesh = load_obj(s.file);
+    } catch (const InputError& e) {
+        // Name both the OBJ problem and the scene line that asked for the file.
+        throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
+    }
+    if (mesh.skipped_degenerate > 0)
+        std::cerr << "warning: " << s.file << ": skipped " << mesh.skipped_degenerate
+                  << " zero-area triangle(s)\n";
+    // MTL materials: a scene material of the same name wins; otherwise the MTL's own values.
+    std::vector<uint32_t> mtl_to_scene(mesh.materials.size());
+    for (size_t i = 0; i < mesh.materials.size(); ++i) {
+        auto it = material_ids.find(mesh.materials[i].name);
+        mtl_to_scene[i] =
+            it != material_ids.end() ? it->second : scene.add_material(mesh.materials[i]);
+    }
+    std::vector<Triangle> triangles;
+    triangles.reserve(mesh.faces.size());
+    for (const MeshData::Face& f : mesh.faces) {
+        uint32_t material;
+        if (override_material >= 0) {
+            material = static_cast<uint32_t>(override_material);
+        } else if (f.material >= 0) {
+            material = mtl_to_scene[f.material];
+        } else {
+            throw InputError(s.where.file, s.where.line, s.where.field + ".material",
+                             "missing: " + s.file +
+                                 " has faces without a usable material (no usemtl, or a name "
+                                 "its MTL file does not define); give the mesh a material");
+        }
+        triangles.push_back({{f.v[0], f.v[1], f.v[2]}, material, true});
+    }
+    scene.add_mesh(mesh.positions, mesh.normals, mesh.uvs, triangles);
+}
+
+}  // namespace
+
+Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
+    Scene scene;
+    scene.source = d.file;
+    scene.width = options.width > 0 ? options.width : d.width;
+    scene.height = options.height > 0 ? options.height : d.height;
+    scene.background = d.background;
+    scene.camera = Camera(d.camera_position, d.camera_look_at, d.camera_up, d.camera_fov,
+                          static_cast<float>(scene.width) / static_cast<float>(scene.height));
+
+    std::map<std::string, uint32_t> material_ids;
+    std::vector<std::string> material_names;
+    for (const MaterialDescription& m : d.materials) {
+        material_ids[m.material.name] = scene.add_material(m.material);
+        material_names.push_back(m.material.name);
+    }
+    auto resolve = [&](const ShapeDescription& s) -> int {
+        if (s.material.empty()) return -1;
+        auto it = material_ids.find(s.material);
+        if (it != material_ids.end()) return static_cast<int>(it->second);
+        std::string message = "undefined material '" + s.material + "'";
+        const std::string guess = closest_match(s.material, material_names);
+        if (!guess.empty()) message += "; did you mean '" + guess + "'?";
+        if (material_names.empty()) message += " (the scene defines no [materials.*])";
+        throw InputError(s.material_where.file, s.material_where.line, s.material_where.field,
+                         message);
+    };
+
+    for (const ShapeDescription& s : d.shapes) {
+        const int material = resolve(s);
+        switch (s.type) {
+            case ShapeDescription::Type::Sphere:
+                scene.add_sphere({s.center, s.radius}, static_cast<uint32_t>(material));
+                break;
+            case ShapeDescription::Type::Quad:
+                scene.add_quad(Quad(s.corner, s.edge_u, s.edge_v), static_cast<uint32_t>(material));
+                break;
+            case ShapeDescription::Type::Mesh:
+                if (s.file.empty())
+                    add_polygon_mesh(scene, s, static_cast<uint32_t>(material));
+                else
+                    add_obj_mesh(scene, s, material_ids, material);
+                break;
+        }
+    }
+    for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
+    scene.commit();
+    return scene;
+}
+
+}  // namespace lessons

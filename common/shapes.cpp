@@ -1,0 +1,208 @@
+// Ray/shape intersection and surface geometry for spheres, quads and triangles.
+#include "shapes.h"
+
+#include "spawn.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace lessons {
+
+namespace {
+
+// Picks the nearest root of a quadratic inside (0, t_max).
+bool nearest_root(double t0, double t1, float t_max, ShapeHit& hit) {
+    if (t0 > t1) std::swap(t0, t1);
+    double t = t0;
+    if (!(t > 0.0)) t = t1;
+    if (!(t > 0.0) || !(t < static_cast<double>(t_max))) return false;
+    hit.t = static_cast<float>(t);
+    if (!(hit.t > 0.0f)) return false;  // underflow to 0 in float: treat as a miss
+    return true;
+}
+
+}  // namespace
+
+bool intersect_sphere(const Sphere& s, const Ray& ray, ShapeHit& hit) {
+    const glm::dvec3 f = glm::dvec3(ray.origin) - glm::dvec3(s.center);
+    const glm::dvec3 d(ray.dir);
+    const double r = s.radius;
+    const double a = glm::dot(d, d);
+    const double b = glm::dot(f, d);
+    const double c = glm::dot(f, f) - r * r;
+    const glm::dvec3 closest_offset = f - (b / a) * d;  // from center to the ray's closest point
+    const double discriminant = a * (r * r - glm::dot(closest_offset, closest_offset));
+    if (discriminant < 0.0) return false;
+    const double q = -(b + std::copysign(std::sqrt(discriminant), b));
+    if (q == 0.0) return nearest_root(0.0, 0.0, ray.t_max, hit);  // origin on the sphere, grazing
+    return nearest_root(q / a, c / q, ray.t_max, hit);
+}
+
+bool intersect_sphere_naive(const Sphere& s, const Ray& ray, ShapeHit& hit) {
+    const Vec3 f = ray.origin - s.center;
+    const float a = glm::dot(ray.dir, ray.dir);
+    const float b = 2.0f * glm::dot(f, ray.dir);
+    const float c = glm::dot(f, f) - s.radius * s.radius;
+    const float discriminant = b * b - 4.0f * a * c;
+    if (discriminant < 0.0f) return false;
+    const float root = std::sqrt(discriminant);
+    return nearest_root((-b - root) / (2.0f * a), (-b + root) / (2.0f * a), ray.t_max, hit);
+}
+
+SurfaceGeometry sphere_surface(const Sphere& s, const Ray& ray, const ShapeHit& hit) {
+    // Re-project o + t d onto the sphere (in double) so the point's error is that of the sphere
+    // description, not that of a long ray.
+    const glm::dvec3 c(s.center);
+    const glm::dvec3 on_ray = glm::dvec3(ray.origin) + static_cast<double>(hit.t) * glm::dvec3(ray.dir);
+    glm::dvec3 radial = on_ray - c;
+    const double len = glm::length(radial);
+    radial = len > 0.0 ? radial / len : glm::dvec3(0.0, 0.0, 1.0);
+    SurfaceGeometry g;
+    const glm::dvec3 p = c + static_cast<double>(s.radius) * radial;
+    g.p = Vec3(p);
+    // Rounding p to float (half an ulp), plus the double arithmetic's error, relative to the
+    // largest magnitudes involved.
+    const double double_error = 8.0 * 0x1p-53 * (glm::length(c) + s.radius);
+    g.p_error = gamma_bound(2) * glm::abs(g.p) + Vec3(static_cast<float>(double_error));
+    g.n_geo = Vec3(radial);
+    g.n_shading = g.n_geo;
+    // Longitude-latitude texture coordinates about the y axis.
+    const float phi = std::atan2(g.n_geo.z, g.n_geo.x);
+    g.uv = Vec2((phi + kPi) / (2.0f * kPi),
+                std::acos(std::clamp(g.n_geo.y, -1.0f, 1.0f)) * kInvPi);
+    return g;
+}
+
+Quad::Quad(const Vec3& c, const Vec3& u, const Vec3& v) : corner(c), edge_u(u), edge_v(v) {
+    const Vec3 n = glm::cross(u, v);
+    const float len2 = glm::dot(n, n);
+    area_ = std::sqrt(len2);
+    normal = area_ > 0.0f ? n / area_ : Vec3(0.0f);
+    w = len2 > 0.0f ? n / len2 : Vec3(0.0f);
+}
+
+Bounds3 Quad::bounds() const {
+    Bounds3 b;
+    b.expand(corner);
+    b.expand(corner + edge_u);
+    b.expand(corner + edge_v);
+    b.expand(corner + edge_u + edge_v);
+    return b;
+}
+
+bool intersect_quad(const Quad& q, const Ray& ray, ShapeHit& hit) {
+    const float denom = glm::dot(q.normal, ray.dir);
+    if (denom == 0.0f) return false;  // parallel to the plane
+    const float t = glm::dot(q.normal, q.corner - ray.origin) / denom;
+    if (!(t > 0.0f && t < ray.t_max)) return false;
+    const Vec3 rel = ray.at(t) - q.corner;
+    const float a = glm::dot(q.w, glm::cross(rel, q.edge_v));
+    const float b = glm::dot(q.w, glm::cross(q.edge_u, rel));
+    if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) return false;
+    hit.t = t;
+    hit.u = a;
+    hit.v = b;
+    return true;
+}
+
+SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit) {
+    SurfaceGeometry g;
+    g.p = q.corner + hit.u * q.edge_u + hit.v * q.edge_v;
+    // Two products and two sums: gamma(4) of the magnitudes summed.
+    g.p_error = gamma_bound(4) * (glm::abs(q.corner) + glm::abs(hit.u * q.edge_u) +
+                                  glm::abs(hit.v * q.edge_v));
+    g.n_geo = q.normal;
+    g.n_shading = q.normal;
+    g.uv = Vec2(hit.u, hit.v);
+    return g;
+}
+
+WatertightRay::WatertightRay(const Ray& ray) : origin(ray.origin) {
+    const Vec3 ad = glm::abs(ray.dir);
+    kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    if (ray.dir[kz] < 0.0f) std::swap(kx, ky);  // keep the winding of the 2D edge functions
+    sx = ray.dir[kx] / ray.dir[kz];
+    sy = ray.dir[ky] / ray.dir[kz];
+    sz = 1.0f / ray.dir[kz];
+}
+
+bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                        float t_max, ShapeHit& hit) {
+    // Vertices relative to the ray origin, sheared so the ray runs along +z.
+    const Vec3 a = p0 - wr.origin, b = p1 - wr.origin, c = p2 - wr.origin;
+    const float ax = a[wr.kx] - wr.sx * a[wr.kz], ay = a[wr.ky] - wr.sy * a[wr.kz];
+    const float bx = b[wr.kx] - wr.sx * b[wr.kz], by = b[wr.ky] - wr.sy * b[wr.kz];
+    const float cx = c[wr.kx] - wr.sx * c[wr.kz], cy = c[wr.ky] - wr.sy * c[wr.kz];
+
+    // Edge functions: twice the signed areas of the sub-triangles opposite each vertex.
+    float e0 = cx * by - cy * bx;
+    float e1 = ax * cy - ay * cx;
+    float e2 = bx * ay - by * ax;
+    // An exact zero in float may be a rounding artefact: decide the sign in double.
+    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
+        e0 = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+        e1 = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+        e2 = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f))
+        return false;  // the ray passes outside one edge
+    const float det = e0 + e1 + e2;
+    if (det == 0.0f) return false;  // degenerate, or seen exactly edge-on
+
+    // Scaled hit distance; compared against t_max * det so no division is needed to reject.
+    const float az = wr.sz * a[wr.kz], bz = wr.sz * b[wr.kz], cz = wr.sz * c[wr.kz];
+    const float t_scaled = e0 * az + e1 * bz + e2 * cz;
+    if (det < 0.0f && (t_scaled >= 0.0f || t_scaled <= t_max * det)) return false;
+    if (det > 0.0f && (t_scaled <= 0.0f || t_scaled >= t_max * det)) return false;
+
+    const float inv_det = 1.0f / det;
+    const float t = t_scaled * inv_det;
+    // Only accept t if it is positive beyond its own rounding error, so a ray spawned from this
+    // triangle (offset by less than that error) cannot re-hit it. Bound from pbrt-v4 (sec. 6.8.7).
+    const float max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
+    const float max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
+    const float max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
+    const float delta_z = gamma_bound(3) * max_z;
+    const float delta_x = gamma_bound(5) * (max_x + max_z);
+    const float delta_y = gamma_bound(5) * (max_y + max_z);
+    const float delta_e =
+        2.0f * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    const float max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
+    const float delta_t =
+        3.0f * (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
+        std::fabs(inv_det);
+    if (!(t > delta_t)) return false;
+    hit.t = t;
+    hit.u = e1 * inv_det;
+    hit.v = e2 * inv_det;
+    return true;
+}
+
+bool intersect_triangle_moller_trumbore(const Ray& ray, const Vec3& p0, const Vec3& p1,
+                                        const Vec3& p2, ShapeHit& hit) {
+    const Vec3 e1 = p1 - p0, e2 = p2 - p0;
+    const Vec3 pv = glm::cross(ray.dir, e2);
+    const float det = glm::dot(e1, pv);
+    if (det == 0.0f) return false;
+    const float inv_det = 1.0f / det;
+    const Vec3 tv = ray.origin - p0;
+    const float u = glm::dot(tv, pv) * inv_det;
+    if (u < 0.0f || u > 1.0f) return false;
+    const Vec3 qv = glm::cross(tv, e1);
+    const float v = glm::dot(ray.dir, qv) * inv_det;
+    if (v < 0.0f || u + v > 1.0f) return false;
+    const float t = glm::dot(e2, qv) * inv_det;
+    if (!(t > 0.0f && t < ray.t_max)) return false;
+    hit.t = t;
+    hit.u = u;
+    hit.v = v;
+    return true;
+}
+
+}  // namespace lessons

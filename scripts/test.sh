@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Builds the suite and runs the whole test suite (on a fresh Debian 12 machine it first installs
+# what it needs). `scripts/test.sh --quick` leaves out the tests labelled "slow".
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
+
+CTEST_ARGS=(--output-on-failure --parallel "$(nproc)" --timeout 900)
+if [ "${1:-}" = "--quick" ]; then
+    CTEST_ARGS+=(--label-exclude slow)
+fi
+
+build_suite
+cd "$BUILD"
+ctest "${CTEST_ARGS[@]}"

@@ -1,0 +1,103 @@
+// End to end: the lesson executables on the shipped scenes, and on bad input.
+#include "report.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kSource = LESSONS_SOURCE_DIR;
+const std::string kBin = LESSONS_BIN_DIR;
+
+struct RunResult {
+    int exit_code;
+    std::string output;  // stdout and stderr
+};
+
+RunResult run(const std::string& args) {
+    const fs::path log = fs::temp_directory_path() / "lessons_cli_test.log";
+    const std::string command = args + " > " + log.string() + " 2>&1";
+    const int status = std::system(command.c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("lessons_cli_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+}  // namespace
+
+class LessonOnScene : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(LessonOnScene, RendersWritesImagesAndAReportWithNoNaN) {
+    const fs::path dir = fresh_dir("render_" + GetParam());
+    const std::string exe = kBin + "/01_ray_casting";
+    const RunResult r = run(exe + " --scene " + kSource + "/scenes/" + GetParam() +
+                      ".toml --width 64 --height 48 --spp 2 --quiet --out " +
+                      (dir / "img").string() + " --report " + (dir / "report.json").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_GT(fs::file_size(dir / "img.exr"), 0u);
+    EXPECT_GT(fs::file_size(dir / "img.png"), 0u);
+    const std::string report = read_file(dir / "report.json");
+    for (const char* field : {"\"chapter\": \"01_ray_casting\"", "\"width\": 64", "\"height\": 48",
+                              "\"spp\": 2", "\"threads\"", "\"seconds\"", "\"rays\"",
+                              "\"nan_pixels\": 0", "\"inf_pixels\": 0", "\"scene\""})
+        EXPECT_NE(report.find(field), std::string::npos) << field << " in\n" << report;
+}
+
+INSTANTIATE_TEST_SUITE_P(ShippedScenes, LessonOnScene,
+                         ::testing::Values("cornell_box", "whitted_1979"));
+
+TEST(Cli, BadSceneExitsWithTwoAndOneLineAndWritesNothing) {
+    const fs::path dir = fresh_dir("bad");
+    std::ofstream(dir / "bad.toml") << "[image]\nwidth = 64\nheight = -1\n";
+    const RunResult r = run(kBin + "/01_ray_casting --scene " + (dir / "bad.toml").string() + " --out " +
+                      (dir / "img").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("bad.toml:3: image.height: must be between 1 and 16384"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir / "img.exr"));
+    EXPECT_FALSE(fs::exists(dir / "img.png"));
+}
+
+TEST(Cli, BadFlagsExitWithTwo) {
+    EXPECT_EQ(run(kBin + "/01_ray_casting --spp 0").exit_code, 2);
+    EXPECT_EQ(run(kBin + "/01_ray_casting --no-such-flag").exit_code, 2);
+    EXPECT_EQ(run(kBin + "/01_ray_casting --scene /no/such/scene.toml").exit_code, 2);
+    const RunResult help = run(kBin + "/01_ray_casting --help");
+    EXPECT_EQ(help.exit_code, 0);
+    for (const char* flag : {"--scene", "--out", "--spp", "--width", "--height", "--threads",
+                             "--seed", "--report", "--ambient", "--exposure"})
+        EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
+}
+
+TEST(Cli, SameSeedSameImageAcrossThreadCounts) {
+    const fs::path dir = fresh_dir("threads");
+    const std::string base = kBin + "/01_ray_casting --scene " + kSource +
+                             "/scenes/cornell_box.toml --width 80 --height 60 --spp 3 --quiet ";
+    ASSERT_EQ(run(base + "--threads 1 --out " + (dir / "one").string()).exit_code, 0);
+    ASSERT_EQ(run(base + "--threads 2 --out " + (dir / "two").string()).exit_code, 0);
+    EXPECT_EQ(read_file(dir / "one.exr"), read_file(dir / "two.exr"));
+}

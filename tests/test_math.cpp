@@ -1,0 +1,70 @@
+// Frames, the random-number generator and bounding boxes.
+#include "bounds.h"
+#include "math.h"
+#include "rng.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+using namespace lessons;
+
+TEST(Frame, IsOrthonormalForEveryNormalIncludingTheHardOnes) {
+    Rng rng(1);
+    std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0},
+                                 glm::normalize(Vec3(1e-7f, 0, -1)),
+                                 glm::normalize(Vec3(0, 1e-7f, -1))};
+    for (int i = 0; i < 10000; ++i) normals.push_back(test::random_unit_vector(rng));
+    for (const Vec3& n : normals) {
+        const Frame f(n);
+        EXPECT_NEAR(glm::length(f.s), 1.0f, 1e-5f);
+        EXPECT_NEAR(glm::length(f.t), 1.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(f.s, f.t), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(f.s, f.n), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(f.t, f.n), 0.0f, 1e-5f);
+        // Right-handed: s x t = n, so local z is the normal.
+        EXPECT_NEAR(glm::dot(glm::cross(f.s, f.t), n), 1.0f, 1e-5f);
+        const Vec3 v = test::random_unit_vector(rng);
+        const Vec3 back = f.to_world(f.to_local(v));
+        EXPECT_NEAR(glm::length(back - v), 0.0f, 1e-5f);
+        EXPECT_NEAR(f.to_local(n).z, 1.0f, 1e-5f);
+    }
+}
+
+TEST(Rng, UniformIsInHalfOpenUnitIntervalWithMeanOneHalf) {
+    Rng rng(42, 7, 3);
+    double sum = 0.0;
+    const int n = 1000000;
+    for (int i = 0; i < n; ++i) {
+        const float u = rng.uniform();
+        ASSERT_GE(u, 0.0f);
+        ASSERT_LT(u, 1.0f);
+        sum += u;
+    }
+    // Standard error of the mean of U(0,1): sqrt(1/12 / n) = 2.9e-4; allow 5 sigma.
+    EXPECT_NEAR(sum / n, 0.5, 5 * 2.9e-4);
+}
+
+TEST(Rng, DifferentPixelsAndSamplesGiveDifferentSequences) {
+    std::set<uint32_t> first_values;
+    for (uint64_t pixel = 0; pixel < 100; ++pixel)
+        for (uint64_t sample = 0; sample < 100; ++sample)
+            first_values.insert(Rng(0, pixel, sample).next_u32());
+    // 10^4 draws from 2^32 values: a collision is unlikely (p ~ 1.2%); allow a few.
+    EXPECT_GE(first_values.size(), 9995u);
+    EXPECT_EQ(Rng(5, 1, 2).next_u32(), Rng(5, 1, 2).next_u32());
+}
+
+TEST(Bounds, SurfaceAreaAndUnion) {
+    Bounds3 b;
+    EXPECT_TRUE(b.empty());
+    EXPECT_EQ(b.surface_area(), 0.0f);
+    b.expand(Vec3(0, 0, 0));
+    b.expand(Vec3(1, 2, 3));
+    EXPECT_FLOAT_EQ(b.surface_area(), 2.0f * (2 + 6 + 3));
+    EXPECT_EQ(b.longest_axis(), 2);
+    const Bounds3 c = merge(b, Bounds3{Vec3(-1), Vec3(0)});
+    EXPECT_EQ(c.min, Vec3(-1));
+    EXPECT_EQ(c.max, Vec3(1, 2, 3));
+}

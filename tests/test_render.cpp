@@ -1,0 +1,75 @@
+// The render loop: the image does not depend on the number of threads or on how the samples
+// are split into passes.
+#include "app.h"
+#include "ray_casting.h"
+#include "render.h"
+#include "scene_file.h"
+
+#include <gtest/gtest.h>
+
+using namespace lessons;
+
+namespace {
+Image render_with(const Scene& scene, int threads, const std::vector<int>& pass_ends) {
+    Film film(scene.width, scene.height);
+    // A model that uses the random numbers, so that seeding matters.
+    const RadianceFn radiance = [&scene](const Ray& ray, Rng& rng) {
+        return ray_cast(scene, ray, {}) * (0.5f + rng.uniform());
+    };
+    RenderSettings settings;
+    settings.threads = threads;
+    settings.seed = 1234;
+    settings.progress = false;
+    int begin = 0;
+    for (int end : pass_ends) {
+        render(scene.camera, film, settings, radiance, begin, end);
+        begin = end;
+    }
+    return film.mean();
+}
+}  // namespace
+
+TEST(Render, SameSeedGivesTheSameImageForOneTwoAndThreeThreads) {
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {96, 80});
+    const Image one = render_with(scene, 1, {4});
+    const Image two = render_with(scene, 2, {4});
+    const Image three = render_with(scene, 3, {4});
+    const Image passes = render_with(scene, 2, {1, 2, 3, 4});
+    ASSERT_EQ(one.pixels.size(), two.pixels.size());
+    int nonzero = 0;
+    for (size_t i = 0; i < one.pixels.size(); ++i) {
+        ASSERT_EQ(one.pixels[i], two.pixels[i]) << "pixel " << i;
+        ASSERT_EQ(one.pixels[i], three.pixels[i]) << "pixel " << i;
+        ASSERT_EQ(one.pixels[i], passes.pixels[i]) << "pixel " << i;
+        nonzero += one.pixels[i].x > 0.0f;
+    }
+    EXPECT_GT(nonzero, 1000);
+}
+
+TEST(Render, DifferentSeedsGiveDifferentNoise) {
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {32, 32});
+    Film a(32, 32), b(32, 32);
+    const RadianceFn noise = [](const Ray&, Rng& rng) { return Color(rng.uniform()); };
+    RenderSettings s;
+    s.progress = false;
+    render(scene.camera, a, s, noise, 0, 1);
+    s.seed = 1;
+    render(scene.camera, b, s, noise, 0, 1);
+    EXPECT_NE(a.mean().pixels[0], b.mean().pixels[0]);
+}
+
+TEST(Render, CountsTheRaysItTraces) {
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/whitted_1979.toml", {40, 30});
+    const Model model = make_ray_casting_model(scene, {});
+    RenderSettings s;
+    s.progress = false;
+    const RenderResult r = render_scene(scene, model, 2, s);
+    // Every sample traces one camera ray; hits also trace one shadow ray to the point light.
+    EXPECT_GE(r.stats.rays, 40u * 30u * 2u);
+    EXPECT_LE(r.stats.rays, 40u * 30u * 2u * 2u);
+    EXPECT_EQ(r.nan_pixels, 0);
+    EXPECT_EQ(r.inf_pixels, 0);
+}

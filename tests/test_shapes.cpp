@@ -1,0 +1,125 @@
+// Sphere, quad and triangle intersection against closed forms, and watertightness of a closed
+// mesh at its shared edges and vertices.
+#include "bvh.h"
+#include "scene.h"
+#include "shapes.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+using namespace lessons;
+
+TEST(Sphere, HitDistanceMatchesClosedForm) {
+    const Sphere s{Vec3(0, 0, 10), 2.0f};
+    ShapeHit hit;
+    ASSERT_TRUE(intersect_sphere(s, Ray{Vec3(0), Vec3(0, 0, 1)}, hit));
+    EXPECT_FLOAT_EQ(hit.t, 8.0f);
+    // Off-axis: a ray at height h hits at t = 10 - sqrt(r^2 - h^2).
+    ASSERT_TRUE(intersect_sphere(s, Ray{Vec3(1.5f, 0, 0), Vec3(0, 0, 1)}, hit));
+    EXPECT_NEAR(hit.t, 10.0f - std::sqrt(4.0f - 2.25f), 1e-5f);
+    // From the inside: the far root.
+    ASSERT_TRUE(intersect_sphere(s, Ray{Vec3(0, 0, 10), Vec3(0, 0, 1)}, hit));
+    EXPECT_FLOAT_EQ(hit.t, 2.0f);
+    // Behind the ray, beyond t_max, and off to the side: misses.
+    EXPECT_FALSE(intersect_sphere(s, Ray{Vec3(0), Vec3(0, 0, -1)}, hit));
+    EXPECT_FALSE(intersect_sphere(s, Ray{Vec3(0), Vec3(0, 0, 1), 7.9f}, hit));
+    EXPECT_FALSE(intersect_sphere(s, Ray{Vec3(2.01f, 0, 0), Vec3(0, 0, 1)}, hit));
+    // A non-unit direction: t is in units of |d|.
+    ASSERT_TRUE(intersect_sphere(s, Ray{Vec3(0), Vec3(0, 0, 4)}, hit));
+    EXPECT_FLOAT_EQ(hit.t, 2.0f);
+}
+
+TEST(Sphere, SurfaceGeometryIsOnTheSphereWithOutwardNormal) {
+    const Sphere s{Vec3(1, 2, 3), 0.5f};
+    const Ray ray{Vec3(1, 2, -10), Vec3(0, 0, 1)};
+    ShapeHit hit;
+    ASSERT_TRUE(intersect_sphere(s, ray, hit));
+    const SurfaceGeometry g = sphere_surface(s, ray, hit);
+    EXPECT_NEAR(glm::length(g.p - s.center), 0.5f, 1e-6f);
+    EXPECT_NEAR(g.n_geo.z, -1.0f, 1e-6f);
+    EXPECT_GE(g.uv.x, 0.0f);
+    EXPECT_LE(g.uv.x, 1.0f);
+}
+
+TEST(Sphere, StableFormFindsTheSilhouetteOfAFarSmallSphere) {
+    // A unit sphere seen from 1e4 (ACCURACY.md hard case 4): rays aimed at points just inside
+    // the silhouette must hit; the stable form in double gets every one.
+    const Sphere s{Vec3(0), 1.0f};
+    Rng rng(3);
+    int stable_misses = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const float r = 0.999f * std::sqrt(rng.uniform());
+        const float phi = 2.0f * kPi * rng.uniform();
+        const Vec3 target(r * std::cos(phi), r * std::sin(phi), 0.0f);
+        const Vec3 origin(0, 0, -1e4f);
+        ShapeHit hit;
+        if (!intersect_sphere(s, Ray{origin, glm::normalize(target - origin)}, hit)) ++stable_misses;
+    }
+    EXPECT_EQ(stable_misses, 0);
+}
+
+TEST(Quad, HitsInsideMissesOutsideAndIncludesItsEdges) {
+    const Quad q(Vec3(0, 0, 5), Vec3(2, 0, 0), Vec3(0, 1, 0));
+    EXPECT_FLOAT_EQ(q.area(), 2.0f);
+    EXPECT_EQ(q.normal, Vec3(0, 0, 1));
+    ShapeHit hit;
+    ASSERT_TRUE(intersect_quad(q, Ray{Vec3(1, 0.5f, 0), Vec3(0, 0, 1)}, hit));
+    EXPECT_FLOAT_EQ(hit.t, 5.0f);
+    EXPECT_FLOAT_EQ(hit.u, 0.5f);
+    EXPECT_FLOAT_EQ(hit.v, 0.5f);
+    EXPECT_TRUE(intersect_quad(q, Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)}, hit));  // corner
+    EXPECT_TRUE(intersect_quad(q, Ray{Vec3(2, 0.3f, 0), Vec3(0, 0, 1)}, hit));  // edge
+    EXPECT_FALSE(intersect_quad(q, Ray{Vec3(2.001f, 0.5f, 0), Vec3(0, 0, 1)}, hit));
+    EXPECT_FALSE(intersect_quad(q, Ray{Vec3(1, 0.5f, 0), Vec3(1, 0, 0)}, hit));  // parallel
+    const SurfaceGeometry g = quad_surface(q, ShapeHit{5.0f, 0.25f, 0.5f});
+    EXPECT_EQ(g.p, Vec3(0.5f, 0.5f, 5.0f));
+}
+
+TEST(Triangle, BarycentricsAndDistanceMatchClosedForm) {
+    const Vec3 p0(0, 0, 3), p1(1, 0, 3), p2(0, 1, 3);
+    const Ray ray{Vec3(0.2f, 0.3f, 0), Vec3(0, 0, 1)};
+    ShapeHit hit;
+    ASSERT_TRUE(intersect_triangle(WatertightRay(ray), p0, p1, p2, kInfinity, hit));
+    EXPECT_FLOAT_EQ(hit.t, 3.0f);
+    EXPECT_NEAR(hit.u, 0.2f, 1e-6f);  // weight of p1
+    EXPECT_NEAR(hit.v, 0.3f, 1e-6f);  // weight of p2
+    // Both windings, and a ray from the other side.
+    EXPECT_TRUE(intersect_triangle(WatertightRay(ray), p0, p2, p1, kInfinity, hit));
+    EXPECT_TRUE(intersect_triangle(WatertightRay(Ray{Vec3(0.2f, 0.3f, 6), Vec3(0, 0, -1)}), p0,
+                                   p1, p2, kInfinity, hit));
+    EXPECT_FALSE(intersect_triangle(WatertightRay(Ray{Vec3(0.6f, 0.6f, 0), Vec3(0, 0, 1)}), p0,
+                                    p1, p2, kInfinity, hit));
+    EXPECT_FALSE(intersect_triangle(WatertightRay(ray), p0, p1, p2, 2.9f, hit));
+    // Agrees with Moller-Trumbore away from edges.
+    ShapeHit mt;
+    ASSERT_TRUE(intersect_triangle_moller_trumbore(ray, p0, p1, p2, mt));
+    EXPECT_NEAR(mt.t, 3.0f, 1e-6f);
+}
+
+TEST(Triangle, ClosedMeshHasNoCracksAtSharedEdgesAndVertices) {
+    // Rays from inside a closed tessellated sphere, aimed exactly at its vertices and at points
+    // on its shared edges: every one must hit some triangle (ACCURACY.md hard case 1).
+    Scene scene;
+    const uint32_t m = test::add_diffuse(scene, Color(0.5f));
+    std::vector<Vec3> vertices;
+    test::add_tessellated_sphere(scene, Vec3(0.3f, -0.2f, 0.1f), 1.0f, 24, 48, m, &vertices);
+    scene.commit();
+    Rng rng(11);
+    int rays = 0, escapes = 0;
+    std::vector<Vec3> targets = vertices;
+    for (const Triangle& t : scene.triangles())
+        for (int e = 0; e < 3; ++e) {
+            const Vec3& a = scene.positions()[t.v[e]];
+            const Vec3& b = scene.positions()[t.v[(e + 1) % 3]];
+            for (float s : {0.5f, 0.25f, 1.0f / 3.0f}) targets.push_back(a + s * (b - a));
+        }
+    for (int k = 0; k < 40; ++k) {
+        const Vec3 origin = Vec3(0.3f, -0.2f, 0.1f) + 0.5f * test::random_in_box(rng, -1, 1);
+        for (const Vec3& target : targets) {
+            ++rays;
+            if (!scene.intersect(Ray{origin, target - origin})) ++escapes;
+        }
+    }
+    EXPECT_GT(rays, 100000);
+    EXPECT_EQ(escapes, 0) << escapes << " of " << rays << " rays slipped through";
+}
