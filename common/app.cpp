@@ -1,16 +1,17 @@
+// The shared lesson driver: command line, scene, render, outputs, report.
 #include "app.h"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
 
 #include "image.h"
 #include "input_error.h"
 #include "report.h"
 #include "scene_file.h"
-
-#include <CLI/CLI.hpp>
-#include <unistd.h>
-
-#include <cstdio>
-#include <filesystem>
-#include <iostream>
 
 namespace lessons {
 
@@ -44,7 +45,9 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
 
 // Refuses an image whose buffers would not fit in memory, before any work is done.
 void check_memory(int width, int height) {
-    const double bytes_per_pixel = 64.0 + 3 * sizeof(Color) + 3;  // film + images + PNG
+    // Film (two double triples and counts), the mean and variance images and their copies in
+    // the result, the PNG bytes: 128 bytes per pixel is a safe upper bound.
+    const double bytes_per_pixel = 128.0;
     const double need = bytes_per_pixel * width * height;
     const double physical =
         static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
@@ -88,8 +91,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << lesson.name << ": error: command line: " << e.what()
-                  << " (see --help)\n";
+        std::cerr << lesson.name << ": error: command line: " << e.what() << " (see --help)\n";
         return 2;
     }
     const int spp = o.spp > 0 ? o.spp : lesson.default_spp;
@@ -126,8 +128,8 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
 
     if (r.nan_samples + r.inf_samples > 0)
         std::cerr << lesson.name << ": warning: " << r.nan_samples << " NaN and " << r.inf_samples
-                  << " infinite samples were left out of the average (" << r.nan_pixels
-                  << " and " << r.inf_pixels << " pixels)\n";
+                  << " infinite samples were left out of the average (" << r.nan_pixels << " and "
+                  << r.inf_pixels << " pixels)\n";
 
     int status = 0;
     try {

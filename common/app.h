@@ -2,12 +2,12 @@
 // and the report. A lesson's main() describes the lesson and its illumination model; this runs it.
 #pragma once
 
-#include "render.h"
-#include "scene.h"
-
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "render.h"
+#include "scene.h"
 
 namespace CLI {
 class App;
@@ -27,8 +27,9 @@ struct Lesson {
     std::string name;         // e.g. "01_ray_casting": the executable and the report's "chapter"
     std::string description;  // first line of --help
     int default_spp = 1;
-    std::function<void(CLI::App&)> add_options;    // the lesson's own flags (may be empty)
-    std::function<Model(const Scene&)> make_model;  // throws InputError if the scene cannot be shown
+    std::function<void(CLI::App&)> add_options;  // the lesson's own flags (may be empty)
+    std::function<Model(const Scene&)>
+        make_model;  // throws InputError if the scene cannot be shown
 };
 
 // The common options, as parsed from the command line.

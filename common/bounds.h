@@ -1,9 +1,9 @@
 // Axis-aligned bounding boxes, and the slab test used by the BVH.
 #pragma once
 
-#include "math.h"
-
 #include <glm/common.hpp>
+
+#include "math.h"
 
 namespace lessons {
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <numeric>
 
 namespace lessons {
@@ -11,7 +12,7 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr float kTraversalCost = 1.0f;  // relative to one primitive intersection
-constexpr int kMedianSplitDepth = 48;   // below this depth, split at the median: depth stays < 64
+constexpr int kMedianSplitDepth = 64;   // deeper than this, split at the median (see kStackSize)
 
 struct Bin {
     Bounds3 bounds;
@@ -31,7 +32,8 @@ struct Split {
 int bin_of(float centroid, float lo, float scale) {
     const float b = (centroid - lo) * scale;
     if (!(b > 0.0f)) return 0;  // also catches NaN
-    return std::min(static_cast<int>(b), kBins - 1);
+    if (!(b < static_cast<float>(kBins))) return kBins - 1;
+    return static_cast<int>(b);
 }
 
 }  // namespace
@@ -71,6 +73,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
             const float lo = centroid_box.min[axis], hi = centroid_box.max[axis];
             if (!(hi > lo)) continue;
             const float scale = kBins / (hi - lo);
+            if (!std::isfinite(scale)) continue;  // extent below float resolution
             std::array<Bin, kBins> bins{};
             for (uint32_t i = task.begin; i < task.end; ++i) {
                 const uint32_t p = prim_index_[i];
@@ -95,10 +98,9 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
                 acc.expand(bins[b].bounds);
                 acc_count += bins[b].count;
                 if (acc_count == 0 || right_count[b + 1] == 0) continue;
-                const float cost =
-                    kTraversalCost + (acc.surface_area() * acc_count +
-                                      right_area[b + 1] * right_count[b + 1]) /
-                                         node_area;
+                const float cost = kTraversalCost + (acc.surface_area() * acc_count +
+                                                     right_area[b + 1] * right_count[b + 1]) /
+                                                        node_area;
                 if (cost < best.cost) best = {axis, b, cost};
             }
         }
@@ -109,7 +111,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
         uint32_t mid;
         auto* first = prim_index_.data() + task.begin;
         auto* last = prim_index_.data() + task.end;
-        if (best.axis >= 0 && task.depth < kMedianSplitDepth) {
+        if (best.axis >= 0 && task.depth < static_cast<uint32_t>(kMedianSplitDepth)) {
             const int axis = best.axis;
             const float lo = centroid_box.min[axis];
             const float scale = kBins / (centroid_box.max[axis] - lo);

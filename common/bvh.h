@@ -14,12 +14,12 @@
 // query stops at the first hit.
 #pragma once
 
-#include "bounds.h"
-#include "math.h"
-
 #include <cstdint>
 #include <span>
 #include <vector>
+
+#include "bounds.h"
+#include "math.h"
 
 namespace lessons {
 
@@ -47,8 +47,9 @@ struct BoxRay {
 // Conservative (Ize, "Robust BVH Ray Traversal", JCGT 2013): the exit distance is enlarged by
 // 1 + 2 gamma(3) so that rounding never culls a box the ray grazes, and a 0 * inf = NaN from a
 // ray lying in a slab plane is ignored by the comparisons (treated as inside).
-[[gnu::always_inline]] inline float box_entry(const BoxRay& r, const Vec3& box_min, const Vec3& box_max, float t_max) {
-    constexpr float kRobustScale = 1.0f + 2.0f * (3.0f * 0x1p-24f) / (1.0f - 3.0f * 0x1p-24f);
+[[gnu::always_inline]] inline float box_entry(const BoxRay& r, const Vec3& box_min,
+                                              const Vec3& box_max, float t_max) {
+    constexpr float kRobustScale = 1.0f + 2.0f * gamma_bound(3);
     float t_near = 0.0f, t_far = t_max;
     for (int i = 0; i < 3; ++i) {
         const float lo = r.dir_negative[i] ? box_max[i] : box_min[i];
@@ -64,6 +65,9 @@ struct BoxRay {
 class Bvh {
 public:
     static constexpr int kMaxLeafSize = 4;
+    // Deepest possible tree: SAH splits down to depth 64 (bvh.cpp), then median splits, at most
+    // 32 more levels for 2^32 primitives. Traversal stacks hold one entry per level.
+    static constexpr int kStackSize = 128;
 
     Bvh() = default;
     // Builds over primitives 0 .. boxes.size()-1 with the given bounding boxes.
@@ -94,7 +98,7 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
     const BoxRay box_ray(ray);
     float t_max = ray.t_max;
     bool found = false;
-    uint32_t stack[64];
+    uint32_t stack[kStackSize];
     int top = 0;
     uint32_t node_index = 0;
     if (box_entry(box_ray, nodes_[0].box_min, nodes_[0].box_max, t_max) == kInfinity) return false;
@@ -134,7 +138,7 @@ bool Bvh::any_hit(const Ray& ray, OccludedFn&& occluded) const {
     if (nodes_.empty()) return false;
     const BoxRay box_ray(ray);
     const float t_max = ray.t_max;
-    uint32_t stack[64];
+    uint32_t stack[kStackSize];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {

@@ -18,8 +18,8 @@ Camera::Camera(const Vec3& position, const Vec3& look_at, const Vec3& up, float 
 Ray Camera::generate_ray(float x, float y, int width, int height) const {
     const float ndc_x = 2.0f * x / static_cast<float>(width) - 1.0f;   // -1 left, +1 right
     const float ndc_y = 1.0f - 2.0f * y / static_cast<float>(height);  // +1 top, -1 bottom
-    const Vec3 d = forward_ + (ndc_x * tan_half_fov_ * aspect_) * right_ +
-                   (ndc_y * tan_half_fov_) * up_;
+    const Vec3 d =
+        forward_ + (ndc_x * tan_half_fov_ * aspect_) * right_ + (ndc_y * tan_half_fov_) * up_;
     return Ray{position_, glm::normalize(d), kInfinity};
 }
 

@@ -24,7 +24,7 @@ private:
     Vec3 forward_{0.0f, 0.0f, 1.0f};  // unit viewing direction
     Vec3 right_{1.0f, 0.0f, 0.0f};    // unit, image +x
     Vec3 up_{0.0f, 1.0f, 0.0f};       // unit, image -y (rows go down)
-    float tan_half_fov_ = 1.0f;        // half-height of the image plane at distance 1
+    float tan_half_fov_ = 1.0f;       // half-height of the image plane at distance 1
     float aspect_ = 1.0f;
 };
 

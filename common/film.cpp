@@ -1,3 +1,4 @@
+// Per-pixel accumulation of radiance samples (see film.h).
 #include "film.h"
 
 #include <cmath>

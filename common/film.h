@@ -5,13 +5,12 @@
 // that are NaN or infinite are never averaged in: they are counted, reported, and left out.
 #pragma once
 
+#include <cstdint>
+#include <glm/vec3.hpp>
+#include <vector>
+
 #include "image.h"
 #include "math.h"
-
-#include <glm/vec3.hpp>
-
-#include <cstdint>
-#include <vector>
 
 namespace lessons {
 

@@ -1,10 +1,10 @@
 // Linear RGB images, and writing them as linear EXR (radiance) and sRGB PNG (for looking at).
 #pragma once
 
-#include "math.h"
-
 #include <string>
 #include <vector>
+
+#include "math.h"
 
 namespace lessons {
 

@@ -1,6 +1,8 @@
+// One-line input errors, and the edit distance behind "did you mean".
 #include "input_error.h"
 
 #include <algorithm>
+#include <cctype>
 #include <vector>
 
 namespace lessons {
@@ -24,7 +26,8 @@ size_t edit_distance(const std::string& a, const std::string& b) {
         row[0] = i;
         for (size_t j = 1; j <= b.size(); ++j) {
             const size_t above = row[j];
-            const bool same = std::tolower(a[i - 1]) == std::tolower(b[j - 1]);
+            const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                              std::tolower(static_cast<unsigned char>(b[j - 1]));
             row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
             diagonal = above;
         }

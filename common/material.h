@@ -2,10 +2,10 @@
 // own illumination model (and says what it approximates or ignores); nothing here is a model.
 #pragma once
 
-#include "math.h"
-
 #include <cmath>
 #include <string>
+
+#include "math.h"
 
 namespace lessons {
 
@@ -16,20 +16,32 @@ enum class MaterialType {
     Glass,    // smooth dielectric: index of refraction
 };
 
-const char* material_type_name(MaterialType t);
+inline const char* material_type_name(MaterialType t) {
+    switch (t) {
+        case MaterialType::Diffuse:
+            return "diffuse";
+        case MaterialType::Glossy:
+            return "glossy";
+        case MaterialType::Mirror:
+            return "mirror";
+        case MaterialType::Glass:
+            return "glass";
+    }
+    return "?";
+}
 
 // A reflectance that is either constant or a checkerboard over the surface's (u, v) in [0,1]^2.
 struct ColorTexture {
-    Color value{0.0f};     // constant value, or the colour of the "even" checker cells
+    Color value{0.0f};  // constant value, or the colour of the "even" checker cells
     bool checker = false;
-    Color odd{0.0f};       // colour of the "odd" checker cells
-    Vec2 cells{1.0f};      // number of cells along u and v
+    Color odd{0.0f};   // colour of the "odd" checker cells
+    Vec2 cells{1.0f};  // number of cells along u and v
 
     Color eval(const Vec2& uv) const {
         if (!checker) return value;
-        const int iu = static_cast<int>(std::floor(uv.x * cells.x));
-        const int iv = static_cast<int>(std::floor(uv.y * cells.y));
-        return ((iu + iv) & 1) ? odd : value;
+        // Cell (i, j) is odd when i + j is; fmod keeps this defined for any finite uv.
+        const float i = std::floor(uv.x * cells.x), j = std::floor(uv.y * cells.y);
+        return std::fabs(std::fmod(i + j, 2.0f)) == 1.0f ? odd : value;
     }
     // The mean over the surface: what a model that cannot see the pattern would use.
     Color average() const { return checker ? 0.5f * (value + odd) : value; }
@@ -38,13 +50,13 @@ struct ColorTexture {
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    ColorTexture albedo;          // diffuse reflectance in [0, 1] (Diffuse, Glossy)
-    Color specular{1.0f};         // reflectance of the glossy lobe at normal incidence (Glossy)
-    float roughness = 0.5f;       // microfacet roughness alpha in (0, 1] (Glossy)
-    Color reflectance{1.0f};      // mirror reflectance (Mirror)
-    float ior = 1.5f;             // index of refraction, inside over outside (Glass)
-    Color emission{0.0f};         // emitted radiance, W / (sr m^2)
-    bool two_sided = false;       // emits from both sides (else only along the geometric normal)
+    ColorTexture albedo;      // diffuse reflectance in [0, 1] (Diffuse, Glossy)
+    Color specular{1.0f};     // reflectance of the glossy lobe at normal incidence (Glossy)
+    float roughness = 0.5f;   // microfacet roughness alpha in (0, 1] (Glossy)
+    Color reflectance{1.0f};  // mirror reflectance (Mirror)
+    float ior = 1.5f;         // index of refraction, inside over outside (Glass)
+    Color emission{0.0f};     // emitted radiance, W / (sr m^2)
+    bool two_sided = false;   // emits from both sides (else only along the geometric normal)
 
     bool is_emissive() const { return !is_black(emission); }
 };

@@ -3,11 +3,10 @@
 // an RGB triple of linear values in W / (sr m^2) per channel.
 #pragma once
 
+#include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
-
-#include <cmath>
 #include <limits>
 
 namespace lessons {
@@ -29,14 +28,29 @@ struct Ray {
     Vec3 at(float t) const { return origin + t * dir; }
 };
 
-inline float max_component(const Vec3& v) { return std::fmax(v.x, std::fmax(v.y, v.z)); }
-inline float min_component(const Vec3& v) { return std::fmin(v.x, std::fmin(v.y, v.z)); }
+// gamma(n) = n u / (1 - n u), u = 2^-24: a bound on the relative error of n successive float
+// operations (Higham; pbrt-v4 section 6.8). Used for conservative bounds and offsets.
+inline constexpr float gamma_bound(int n) {
+    constexpr float u = 0x1p-24f;
+    return n * u / (1.0f - n * u);
+}
+
+inline float max_component(const Vec3& v) {
+    return std::fmax(v.x, std::fmax(v.y, v.z));
+}
+inline float min_component(const Vec3& v) {
+    return std::fmin(v.x, std::fmin(v.y, v.z));
+}
 inline bool is_finite(const Vec3& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
-inline bool is_black(const Color& c) { return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f; }
+inline bool is_black(const Color& c) {
+    return c.x <= 0.0f && c.y <= 0.0f && c.z <= 0.0f;
+}
 // Rec. 709 luminance of a linear RGB value.
-inline float luminance(const Color& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+inline float luminance(const Color& c) {
+    return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
 
 // An orthonormal frame (s, t, n) around a unit normal n. Directions in the local frame have
 // n along +z, so cos(theta) of a local direction is its z component.

@@ -5,19 +5,19 @@
 // -> glass with ior Ni; otherwise diffuse with albedo Kd.
 #include "mesh_file.h"
 
-#include "input_error.h"
-
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <map>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <tuple>
+
+#include "input_error.h"
 
 namespace lessons {
 
@@ -62,7 +62,7 @@ void check_vertex_numbers(const std::string& path) {
             const double x = std::strtod(token.c_str(), &end);
             if (end == token.c_str() || *end != '\0')
                 throw InputError(path, number, keyword, "'" + token + "' is not a number");
-            if (!std::isfinite(x) || std::fabs(x) > 1e30)
+            if (!std::isfinite(x) || std::fabs(x) > 1e9)
                 throw InputError(path, number, keyword,
                                  "'" + token + "' is not a finite coordinate");
         }
@@ -92,12 +92,14 @@ MeshData load_obj(const std::string& path) {
         if (!line.empty()) std::cerr << "warning: " << path << ": " << line << "\n";
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     MeshData mesh;
-    for (const tinyobj::material_t& m : reader.GetMaterials()) mesh.materials.push_back(from_mtl(m));
+    for (const tinyobj::material_t& m : reader.GetMaterials())
+        mesh.materials.push_back(from_mtl(m));
 
     for (size_t i = 0; i < attrib.vertices.size(); ++i)
         if (!std::isfinite(attrib.vertices[i]))
-            throw InputError(path, 0, "v", "vertex " + std::to_string(i / 3 + 1) +
-                                               " has a non-finite coordinate");
+            throw InputError(
+                path, 0, "v",
+                "vertex " + std::to_string(i / 3 + 1) + " has a non-finite coordinate");
 
     const bool has_normals = !attrib.normals.empty();
     const bool has_uvs = !attrib.texcoords.empty();
@@ -107,8 +109,9 @@ MeshData load_obj(const std::string& path) {
         const int ni = has_normals ? idx.normal_index : -1;
         const int ti = has_uvs ? idx.texcoord_index : -1;
         if (vi < 0 || 3 * static_cast<size_t>(vi) + 2 >= attrib.vertices.size())
-            throw InputError(path, 0, "f", "face refers to vertex " + std::to_string(vi + 1) +
-                                               ", which does not exist");
+            throw InputError(
+                path, 0, "f",
+                "face refers to vertex " + std::to_string(vi + 1) + ", which does not exist");
         const auto key = std::make_tuple(vi, ni, ti);
         if (auto it = vertex_of.find(key); it != vertex_of.end()) return it->second;
         const uint32_t id = static_cast<uint32_t>(mesh.positions.size());

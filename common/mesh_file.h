@@ -1,12 +1,12 @@
 // Triangle meshes from Wavefront OBJ files (and their MTL materials), through tinyobjloader.
 #pragma once
 
-#include "material.h"
-#include "math.h"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "material.h"
+#include "math.h"
 
 namespace lessons {
 

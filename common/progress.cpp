@@ -1,3 +1,4 @@
+// Progress output on stderr (see progress.h).
 #include "progress.h"
 
 #include <unistd.h>

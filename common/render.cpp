@@ -1,13 +1,16 @@
+// The tiled, multi-threaded render loop (see render.h).
 #include "render.h"
-
-#include "progress.h"
-#include "scene.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
+#include <mutex>
 #include <thread>
 #include <vector>
+
+#include "progress.h"
+#include "scene.h"
 
 namespace lessons {
 
@@ -29,29 +32,38 @@ RenderStats render(const Camera& camera, Film& film, const RenderSettings& setti
     const int tile_count = tiles_x * tiles_y;
     const int samples = std::max(0, sample_end - sample_begin);
 
-    Progress progress("render", static_cast<uint64_t>(width) * height * samples,
-                      settings.progress);
+    Progress progress("render", static_cast<uint64_t>(width) * height * samples, settings.progress);
     std::atomic<int> next_tile{0};
     std::atomic<uint64_t> rays{0};
 
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
     auto worker = [&]() {
         const uint64_t rays_before = rays_traced_by_this_thread();
-        for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
-            const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
-            const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
-            for (int y = y0; y < y1; ++y) {
-                for (int x = x0; x < x1; ++x) {
-                    const size_t pixel = static_cast<size_t>(y) * width + x;
-                    for (int s = sample_begin; s < sample_end; ++s) {
-                        Rng rng(settings.seed, pixel, static_cast<uint64_t>(s));
-                        const float jx = settings.jitter ? rng.uniform() : 0.5f;
-                        const float jy = settings.jitter ? rng.uniform() : 0.5f;
-                        const Ray ray = camera.generate_ray(x + jx, y + jy, width, height);
-                        film.add_sample(pixel, radiance(ray, rng));
+        try {
+            for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
+                const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
+                const int x1 = std::min(x0 + kTileSize, width),
+                          y1 = std::min(y0 + kTileSize, height);
+                for (int y = y0; y < y1; ++y) {
+                    for (int x = x0; x < x1; ++x) {
+                        const size_t pixel = static_cast<size_t>(y) * width + x;
+                        for (int s = sample_begin; s < sample_end; ++s) {
+                            Rng rng(settings.seed, pixel, static_cast<uint64_t>(s));
+                            const float jx = settings.jitter ? rng.uniform() : 0.5f;
+                            const float jy = settings.jitter ? rng.uniform() : 0.5f;
+                            const Ray ray = camera.generate_ray(x + jx, y + jy, width, height);
+                            film.add_sample(pixel, radiance(ray, rng));
+                        }
                     }
                 }
+                progress.advance(static_cast<uint64_t>(x1 - x0) * (y1 - y0) * samples);
             }
-            progress.advance(static_cast<uint64_t>(x1 - x0) * (y1 - y0) * samples);
+        } catch (...) {
+            // Stop every worker and hand the exception to the caller after the join.
+            std::lock_guard lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next_tile = tile_count;
         }
         rays += rays_traced_by_this_thread() - rays_before;
     };
@@ -61,6 +73,7 @@ RenderStats render(const Camera& camera, Film& film, const RenderSettings& setti
     for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
     worker();
     for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
     progress.finish();
 
     RenderStats stats;

@@ -6,13 +6,13 @@
 // the same for any number of threads, and for any split of the samples into passes.
 #pragma once
 
+#include <cstdint>
+#include <functional>
+
 #include "camera.h"
 #include "film.h"
 #include "math.h"
 #include "rng.h"
-
-#include <cstdint>
-#include <functional>
 
 namespace lessons {
 
@@ -21,7 +21,7 @@ namespace lessons {
 using RadianceFn = std::function<Color(const Ray& ray, Rng& rng)>;
 
 struct RenderSettings {
-    int threads = 0;       // 0: one per hardware thread
+    int threads = 0;  // 0: one per hardware thread
     uint64_t seed = 0;
     bool jitter = true;    // uniformly jittered position in the pixel; false: the pixel center
     bool progress = true;  // progress on stderr

@@ -1,11 +1,12 @@
+// The JSON report of a render, written atomically.
 #include "report.h"
-
-#include "image.h"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+
+#include "image.h"
 
 namespace lessons {
 
@@ -13,10 +14,18 @@ std::string json_quote(const std::string& s) {
     std::string out = "\"";
     for (const char c : s) {
         switch (c) {
-            case '"': out += "\\\""; break;
-            case '\\': out += "\\\\"; break;
-            case '\n': out += "\\n"; break;
-            case '\t': out += "\\t"; break;
+            case '"':
+                out += "\\\"";
+                break;
+            case '\\':
+                out += "\\\\";
+                break;
+            case '\n':
+                out += "\\n";
+                break;
+            case '\t':
+                out += "\\t";
+                break;
             default:
                 if (static_cast<unsigned char>(c) < 0x20) {
                     char buf[8];
@@ -39,7 +48,9 @@ void Report::put(const std::string& key, std::string json_value) {
     fields_.emplace_back(key, std::move(json_value));
 }
 
-void Report::set(const std::string& key, const std::string& value) { put(key, json_quote(value)); }
+void Report::set(const std::string& key, const std::string& value) {
+    put(key, json_quote(value));
+}
 void Report::set(const std::string& key, double value) {
     if (!std::isfinite(value)) {
         put(key, "null");  // JSON has no NaN or infinity
@@ -49,8 +60,15 @@ void Report::set(const std::string& key, double value) {
     std::snprintf(buf, sizeof buf, "%.9g", value);
     put(key, buf);
 }
-void Report::set(const std::string& key, int64_t value) { put(key, std::to_string(value)); }
-void Report::set(const std::string& key, bool value) { put(key, value ? "true" : "false"); }
+void Report::set(const std::string& key, int64_t value) {
+    put(key, std::to_string(value));
+}
+void Report::set(const std::string& key, uint64_t value) {
+    put(key, std::to_string(value));
+}
+void Report::set(const std::string& key, bool value) {
+    put(key, value ? "true" : "false");
+}
 void Report::set(const std::string& key, const std::vector<std::string>& values) {
     std::string json = "[";
     for (size_t i = 0; i < values.size(); ++i) json += (i ? ", " : "") + json_quote(values[i]);

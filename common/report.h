@@ -16,7 +16,7 @@ public:
     void set(const std::string& key, double value);
     void set(const std::string& key, int64_t value);
     void set(const std::string& key, int value) { set(key, static_cast<int64_t>(value)); }
-    void set(const std::string& key, uint64_t value) { set(key, static_cast<int64_t>(value)); }
+    void set(const std::string& key, uint64_t value);
     void set(const std::string& key, bool value);
     void set(const std::string& key, const std::vector<std::string>& values);
 

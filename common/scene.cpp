@@ -9,16 +9,8 @@ namespace {
 thread_local uint64_t t_rays_traced = 0;
 }
 
-uint64_t rays_traced_by_this_thread() { return t_rays_traced; }
-
-const char* material_type_name(MaterialType t) {
-    switch (t) {
-        case MaterialType::Diffuse: return "diffuse";
-        case MaterialType::Glossy: return "glossy";
-        case MaterialType::Mirror: return "mirror";
-        case MaterialType::Glass: return "glass";
-    }
-    return "?";
+uint64_t rays_traced_by_this_thread() {
+    return t_rays_traced;
 }
 
 uint32_t Scene::add_material(const Material& m) {
@@ -64,17 +56,22 @@ void Scene::add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>
 
 uint32_t Scene::material_of(PrimRef prim) const {
     switch (prim.kind()) {
-        case ShapeKind::Sphere: return sphere_materials_[prim.index()];
-        case ShapeKind::Quad: return quad_materials_[prim.index()];
-        case ShapeKind::Triangle: return triangles_[prim.index()].material;
+        case ShapeKind::Sphere:
+            return sphere_materials_[prim.index()];
+        case ShapeKind::Quad:
+            return quad_materials_[prim.index()];
+        case ShapeKind::Triangle:
+            return triangles_[prim.index()].material;
     }
     return 0;
 }
 
 Bounds3 Scene::primitive_bounds(PrimRef prim) const {
     switch (prim.kind()) {
-        case ShapeKind::Sphere: return spheres_[prim.index()].bounds();
-        case ShapeKind::Quad: return quads_[prim.index()].bounds();
+        case ShapeKind::Sphere:
+            return spheres_[prim.index()].bounds();
+        case ShapeKind::Quad:
+            return quads_[prim.index()].bounds();
         case ShapeKind::Triangle: {
             const Triangle& t = triangles_[prim.index()];
             Bounds3 b;
@@ -92,15 +89,30 @@ void Scene::commit() {
     for (uint32_t i = 0; i < triangles_.size(); ++i) prims_.emplace_back(ShapeKind::Triangle, i);
     std::vector<Bounds3> boxes;
     boxes.reserve(prims_.size());
-    for (PrimRef p : prims_) boxes.push_back(primitive_bounds(p));
+    for (PrimRef p : prims_) {
+        // Rounded outwards by one float step, so a hit computed in higher precision (spheres
+        // are intersected in double) can never lie outside its box.
+        Bounds3 b = primitive_bounds(p);
+        for (int i = 0; i < 3; ++i) {
+            b.min[i] = std::nextafter(b.min[i], -kInfinity);
+            b.max[i] = std::nextafter(b.max[i], kInfinity);
+        }
+        boxes.push_back(b);
+    }
     bvh_ = Bvh(boxes);
 
     area_lights_.clear();
     for (PrimRef p : prims_) {
         const uint32_t m = material_of(p);
         if (!materials_[m].is_emissive()) continue;
-        AreaLight light{p,          m,          materials_[m].emission, materials_[m].two_sided,
-                        0.0f,       Vec3(0.0f), Vec3(0.0f),             Vec3(0.0f)};
+        AreaLight light{p,
+                        m,
+                        materials_[m].emission,
+                        materials_[m].two_sided,
+                        0.0f,
+                        Vec3(0.0f),
+                        Vec3(0.0f),
+                        Vec3(0.0f)};
         switch (p.kind()) {
             case ShapeKind::Sphere: {
                 const Sphere& s = spheres_[p.index()];
@@ -112,8 +124,8 @@ void Scene::commit() {
                 const Quad& q = quads_[p.index()];
                 light.area = q.area();
                 light.center = q.center();
-                light.center_error = gamma_bound(4) * (glm::abs(q.corner) + glm::abs(q.edge_u) +
-                                                       glm::abs(q.edge_v));
+                light.center_error =
+                    gamma_bound(4) * (glm::abs(q.corner) + glm::abs(q.edge_u) + glm::abs(q.edge_v));
                 light.normal = q.normal;
                 break;
             }
@@ -124,8 +136,7 @@ void Scene::commit() {
                 const Vec3 n = glm::cross(b - a, c - a);
                 light.area = 0.5f * glm::length(n);
                 light.center = (a + b + c) / 3.0f;
-                light.center_error =
-                    gamma_bound(4) * (glm::abs(a) + glm::abs(b) + glm::abs(c));
+                light.center_error = gamma_bound(4) * (glm::abs(a) + glm::abs(b) + glm::abs(c));
                 light.normal = light.area > 0.0f ? glm::normalize(n) : Vec3(0.0f);
                 break;
             }
@@ -134,8 +145,8 @@ void Scene::commit() {
     }
 }
 
-bool Scene::intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRay& wr,
-                                float t_max, ShapeHit& hit) const {
+bool Scene::intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRay& wr, float t_max,
+                                ShapeHit& hit) const {
     switch (prim.kind()) {
         case ShapeKind::Sphere: {
             Ray r = ray;
@@ -171,10 +182,11 @@ std::optional<Hit> Scene::intersect(const Ray& ray) const {
     return best;
 }
 
-bool Scene::occluded(const Ray& ray) const {
+bool Scene::occluded(const Ray& ray, std::optional<PrimRef> target) const {
     ++t_rays_traced;
     const WatertightRay wr(ray);
     return bvh_.any_hit(ray, [&](uint32_t i) {
+        if (target && prims_[i] == *target) return false;
         ShapeHit h;
         return intersect_primitive(prims_[i], ray, wr, ray.t_max, h);
     });
@@ -183,8 +195,12 @@ bool Scene::occluded(const Ray& ray) const {
 SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
     SurfaceGeometry g;
     switch (hit.prim.kind()) {
-        case ShapeKind::Sphere: g = sphere_surface(spheres_[hit.prim.index()], ray, hit.shape); break;
-        case ShapeKind::Quad: g = quad_surface(quads_[hit.prim.index()], hit.shape); break;
+        case ShapeKind::Sphere:
+            g = sphere_surface(spheres_[hit.prim.index()], ray, hit.shape);
+            break;
+        case ShapeKind::Quad:
+            g = quad_surface(quads_[hit.prim.index()], hit.shape);
+            break;
         case ShapeKind::Triangle: {
             const Triangle& t = triangles_[hit.prim.index()];
             const float b1 = hit.shape.u, b2 = hit.shape.v, b0 = 1.0f - b1 - b2;
@@ -192,11 +208,13 @@ SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
             // Barycentric interpolation: the point's error is bounded by the vertices', not by
             // the length of the ray.
             g.p = b0 * p0 + b1 * p1 + b2 * p2;
-            g.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
+            g.p_error =
+                gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
             g.n_geo = glm::normalize(glm::cross(p1 - p0, p2 - p0));
             g.n_shading = g.n_geo;
             if (t.smooth) {
-                const Vec3 n = b0 * normals_[t.v[0]] + b1 * normals_[t.v[1]] + b2 * normals_[t.v[2]];
+                const Vec3 n =
+                    b0 * normals_[t.v[0]] + b1 * normals_[t.v[1]] + b2 * normals_[t.v[2]];
                 const float len = glm::length(n);
                 if (len > 0.0f && std::isfinite(len)) {
                     g.n_shading = n / len;
@@ -219,6 +237,7 @@ SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
     si.t = hit.shape.t;
     si.material = material_of(hit.prim);
     si.prim = hit.prim;
+    si.front = hit.shape.front;
     return si;
 }
 

@@ -7,17 +7,17 @@
 // nearest hit only.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "bvh.h"
 #include "camera.h"
 #include "material.h"
 #include "math.h"
 #include "shapes.h"
 #include "spawn.h"
-
-#include <cstdint>
-#include <optional>
-#include <string>
-#include <vector>
 
 namespace lessons {
 
@@ -56,8 +56,9 @@ struct SurfaceInteraction {
     float t;         // ray parameter of the hit
     uint32_t material;
     PrimRef prim;
+    bool front = true;  // the ray arrived on n_geo's side (decided by the intersection test)
 
-    bool front_face() const { return glm::dot(n_geo, wo) > 0.0f; }
+    bool front_face() const { return front; }
     SurfacePoint surface_point() const { return {p, p_error, n_geo}; }
 };
 
@@ -71,12 +72,12 @@ struct PointLight {
 struct AreaLight {
     PrimRef prim;
     uint32_t material;
-    Color radiance;   // emitted radiance L_e, W / (sr m^2)
+    Color radiance;  // emitted radiance L_e, W / (sr m^2)
     bool two_sided;
-    float area;       // m^2
-    Vec3 center;      // centroid (sphere: its center)
+    float area;         // m^2
+    Vec3 center;        // centroid (sphere: its center)
     Vec3 center_error;  // rounding-error bound of center (for shadow rays ending on it)
-    Vec3 normal;      // unit emitting normal (zero for spheres, which emit all around)
+    Vec3 normal;        // unit emitting normal (zero for spheres, which emit all around)
 };
 
 // Rays traced by the calling thread since it started: the render loop reads the difference.
@@ -98,7 +99,10 @@ public:
 
     // ---- queries ----
     std::optional<Hit> intersect(const Ray& ray) const;
-    bool occluded(const Ray& ray) const;
+    // Whether anything blocks the segment. `target`: the primitive the segment ends on (an area
+    // light), which cannot block it: offsets alone cannot guarantee that when the segment is
+    // much longer than the light's coordinates are large.
+    bool occluded(const Ray& ray, std::optional<PrimRef> target = std::nullopt) const;
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
     // Emitted radiance L_e(p, wo) leaving the hit point towards wo.
     Color emitted(const SurfaceInteraction& si) const;

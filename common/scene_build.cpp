@@ -1,10 +1,10 @@
 // Stage 2 of scene loading: SceneDescription -> Scene.
+#include <iostream>
+#include <map>
+
 #include "input_error.h"
 #include "mesh_file.h"
 #include "scene_file.h"
-
-#include <iostream>
-#include <map>
 
 namespace lessons {
 

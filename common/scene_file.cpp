@@ -1,8 +1,6 @@
 // Stage 1 of scene loading: TOML text -> SceneDescription, with every value checked.
 #include "scene_file.h"
 
-#include "input_error.h"
-
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -10,6 +8,8 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "input_error.h"
 
 namespace lessons {
 
@@ -111,15 +111,17 @@ public:
         Vec3 v;
         for (int i = 0; i < 3; ++i) {
             const toml::node& c = *a->get(static_cast<size_t>(i));
-            if (!c.is_number()) fail(key, "element " + std::to_string(i) + " is " + type_name(c) +
-                                              ", expected a number");
+            if (!c.is_number())
+                fail(key, "element " + std::to_string(i) + " is " + type_name(c) +
+                              ", expected a number");
             const double x = as_number(c);
             if (!std::isfinite(x))
-                fail(key, "element " + std::to_string(i) + " must be finite, got " +
-                              std::to_string(x));
-            if (std::fabs(x) > 1.0e30)
-                fail(key, "element " + std::to_string(i) + " is too large for single precision "
-                          "geometry (|x| must be at most 1e30)");
+                fail(key,
+                     "element " + std::to_string(i) + " must be finite, got " + std::to_string(x));
+            if (std::fabs(x) > kMaxCoordinate)
+                fail(key, "element " + std::to_string(i) +
+                              " is too large for single precision "
+                              "geometry (|x| must be at most 1e9)");
             v[i] = static_cast<float>(x);
         }
         return v;
@@ -138,8 +140,9 @@ public:
         const Color c = vec3_of(n, key);
         if (min_component(c) < 0.0f) fail(key, "must not be negative");
         if (at_most_one && max_component(c) > 1.0f)
-            fail(key, "must be at most 1 in every channel: a surface cannot reflect more light "
-                      "than it receives");
+            fail(key,
+                 "must be at most 1 in every channel: a surface cannot reflect more light "
+                 "than it receives");
         return c;
     }
     Color color(std::string_view key, bool at_most_one) {
@@ -170,8 +173,9 @@ public:
             const int l = line_of(node);
             for (const auto& [name, owner] : elsewhere)
                 if (name == k)
-                    throw InputError(file_, l, field(k),
-                                     "not a field of " + context + " (it belongs to " + owner + ")");
+                    throw InputError(
+                        file_, l, field(k),
+                        "not a field of " + context + " (it belongs to " + owner + ")");
             std::string message = "unknown field in " + context;
             const std::string guess = closest_match(k, allowed);
             if (!guess.empty()) message += "; did you mean '" + guess + "'?";
@@ -184,13 +188,20 @@ public:
 
     static std::string type_name(const toml::node& n) {
         switch (n.type()) {
-            case toml::node_type::string: return "a string";
-            case toml::node_type::integer: return "an integer";
-            case toml::node_type::floating_point: return "a number";
-            case toml::node_type::boolean: return "a boolean";
-            case toml::node_type::array: return "an array";
-            case toml::node_type::table: return "a table";
-            default: return "a date or time";
+            case toml::node_type::string:
+                return "a string";
+            case toml::node_type::integer:
+                return "an integer";
+            case toml::node_type::floating_point:
+                return "a number";
+            case toml::node_type::boolean:
+                return "a boolean";
+            case toml::node_type::array:
+                return "an array";
+            case toml::node_type::table:
+                return "a table";
+            default:
+                return "a date or time";
         }
     }
 
@@ -211,8 +222,8 @@ ColorTexture parse_albedo(TableReader& r, std::string_view key) {
     TableReader checker(*n.as_table(), r.where(key).file, r.field(key));
     const toml::array& colors = checker.array("checker");
     if (colors.size() != 2)
-        checker.fail("checker", "expected two colours [[even], [odd]], got " +
-                                    std::to_string(colors.size()));
+        checker.fail("checker",
+                     "expected two colours [[even], [odd]], got " + std::to_string(colors.size()));
     tex.checker = true;
     tex.value = checker.color_of(*colors.get(0), "checker", true);
     tex.odd = checker.color_of(*colors.get(1), "checker", true);
@@ -229,8 +240,10 @@ ColorTexture parse_albedo(TableReader& r, std::string_view key) {
 }
 
 const std::vector<std::pair<std::string, std::string>> kMaterialFieldOwners = {
-    {"albedo", "diffuse and glossy materials"}, {"specular", "glossy materials"},
-    {"roughness", "glossy materials"},          {"reflectance", "mirror materials"},
+    {"albedo", "diffuse and glossy materials"},
+    {"specular", "glossy materials"},
+    {"roughness", "glossy materials"},
+    {"reflectance", "mirror materials"},
     {"ior", "glass materials"}};
 
 MaterialDescription parse_material(const toml::table& t, const std::string& file,
@@ -254,6 +267,12 @@ MaterialDescription parse_material(const toml::table& t, const std::string& file
         if (r.has("albedo")) m.albedo = parse_albedo(r, "albedo");
         m.specular = r.color("specular", true, Color(1.0f));
         m.roughness = static_cast<float>(r.number_in("roughness", 0.0, 1.0, true, false));
+        // Energy conservation: the diffuse base and the lobe share what the surface receives.
+        const Color base = glm::max(m.albedo.value, m.albedo.checker ? m.albedo.odd : Color(0.0f));
+        if (max_component(base + m.specular) > 1.0f)
+            r.fail(r.has("specular") ? "specular" : "albedo",
+                   "albedo + specular must be at most 1 in every channel (a surface cannot "
+                   "reflect more light than it receives); lower specular (default 1)");
         allowed.insert(allowed.end(), {"albedo", "specular", "roughness"});
     } else if (type == "mirror") {
         m.type = MaterialType::Mirror;
@@ -289,7 +308,7 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
     if (type == "sphere") {
         s.type = ShapeDescription::Type::Sphere;
         s.center = r.vec3("center");
-        s.radius = static_cast<float>(r.number_in("radius", 0.0, 1e30, true, false));
+        s.radius = static_cast<float>(r.number_in("radius", 0.0, kMaxCoordinate, true, false));
         allowed.insert(allowed.end(), {"center", "radius"});
     } else if (type == "quad") {
         s.type = ShapeDescription::Type::Quad;
@@ -297,7 +316,8 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
         s.edge_u = r.nonzero_vec3("edge_u");
         s.edge_v = r.nonzero_vec3("edge_v");
         const Vec3 n = glm::cross(s.edge_u, s.edge_v);
-        if (!(glm::dot(n, n) > 0.0f)) r.fail("edge_v", "is parallel to edge_u: the quad has no area");
+        if (!(glm::dot(n, n) > 0.0f))
+            r.fail("edge_v", "is parallel to edge_u: the quad has no area");
         allowed.insert(allowed.end(), {"corner", "edge_u", "edge_v"});
     } else if (type == "mesh") {
         s.type = ShapeDescription::Type::Mesh;
@@ -307,8 +327,7 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
                 r.fail("file", "give either a file or inline vertices and faces, not both");
             const std::filesystem::path rel = r.string("file");
             s.file_where = r.where("file");
-            s.file = (rel.is_absolute() ? rel
-                                        : std::filesystem::path(file).parent_path() / rel)
+            s.file = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
                          .lexically_normal()
                          .string();
         } else {
@@ -421,8 +440,9 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
                 const std::vector<std::string> types = {"point"};
                 std::string message = "unknown light type '" + type + "'";
                 if (!closest_match(type, types).empty()) message += "; did you mean 'point'?";
-                l.fail("type", message + " (known: point; area lights are shapes with an "
-                                         "emissive material)");
+                l.fail("type", message +
+                                   " (known: point; area lights are shapes with an "
+                                   "emissive material)");
             }
             PointLightDescription p;
             p.where = {file, l.line(), path};
@@ -456,8 +476,7 @@ SceneDescription parse_scene_string(const std::string& text, const std::string& 
 
 SceneDescription parse_scene_file(const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-        throw InputError(path, 0, "", "scene file not found");
+    if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "scene file not found");
     if (std::filesystem::is_directory(path, ec))
         throw InputError(path, 0, "", "is a directory, not a scene file");
     std::ifstream in(path, std::ios::binary);

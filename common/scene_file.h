@@ -7,13 +7,13 @@
 // The format is documented field by field, with units, in docs/scene-format.md.
 #pragma once
 
-#include "material.h"
-#include "math.h"
-#include "scene.h"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "material.h"
+#include "math.h"
+#include "scene.h"
 
 namespace lessons {
 
@@ -80,5 +80,7 @@ Scene load_scene(const std::string& path, const BuildOptions& options = {});
 
 // Limits on what a scene may ask for (images larger would not fit in memory here).
 inline constexpr int kMaxImageSide = 16384;
+// Largest coordinate or radius: single-precision cross products of edges this long still fit.
+inline constexpr double kMaxCoordinate = 1e9;
 
 }  // namespace lessons

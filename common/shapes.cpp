@@ -1,28 +1,37 @@
 // Ray/shape intersection and surface geometry for spheres, quads and triangles.
 #include "shapes.h"
 
-#include "spawn.h"
-
-#include <glm/geometric.hpp>
-#include <glm/vec3.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 #include <utility>
+
+#include "spawn.h"
 
 namespace lessons {
 
 namespace {
 
-// Picks the nearest root of a quadratic inside (0, t_max).
+// Picks the nearest root of a quadratic inside (0, t_max). The smaller root is where the line
+// enters the sphere (the outside, front), the larger where it leaves (from inside, back).
 bool nearest_root(double t0, double t1, float t_max, ShapeHit& hit) {
     if (t0 > t1) std::swap(t0, t1);
-    double t = t0;
-    if (!(t > 0.0)) t = t1;
-    if (!(t > 0.0) || !(t < static_cast<double>(t_max))) return false;
-    hit.t = static_cast<float>(t);
-    if (!(hit.t > 0.0f)) return false;  // underflow to 0 in float: treat as a miss
-    return true;
+    // A root is usable if it is positive also after rounding to float.
+    auto usable = [&](double t) {
+        return t > 0.0 && t < static_cast<double>(t_max) && static_cast<float>(t) > 0.0f;
+    };
+    if (usable(t0)) {
+        hit.t = static_cast<float>(t0);
+        hit.front = true;
+        return true;
+    }
+    if (usable(t1)) {
+        hit.t = static_cast<float>(t1);
+        hit.front = false;
+        return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -57,7 +66,8 @@ SurfaceGeometry sphere_surface(const Sphere& s, const Ray& ray, const ShapeHit& 
     // Re-project o + t d onto the sphere (in double) so the point's error is that of the sphere
     // description, not that of a long ray.
     const glm::dvec3 c(s.center);
-    const glm::dvec3 on_ray = glm::dvec3(ray.origin) + static_cast<double>(hit.t) * glm::dvec3(ray.dir);
+    const glm::dvec3 on_ray =
+        glm::dvec3(ray.origin) + static_cast<double>(hit.t) * glm::dvec3(ray.dir);
     glm::dvec3 radial = on_ray - c;
     const double len = glm::length(radial);
     radial = len > 0.0 ? radial / len : glm::dvec3(0.0, 0.0, 1.0);
@@ -72,17 +82,16 @@ SurfaceGeometry sphere_surface(const Sphere& s, const Ray& ray, const ShapeHit& 
     g.n_shading = g.n_geo;
     // Longitude-latitude texture coordinates about the y axis.
     const float phi = std::atan2(g.n_geo.z, g.n_geo.x);
-    g.uv = Vec2((phi + kPi) / (2.0f * kPi),
-                std::acos(std::clamp(g.n_geo.y, -1.0f, 1.0f)) * kInvPi);
+    g.uv = Vec2((phi + kPi) / (2.0f * kPi), std::acos(std::clamp(g.n_geo.y, -1.0f, 1.0f)) * kInvPi);
     return g;
 }
 
 Quad::Quad(const Vec3& c, const Vec3& u, const Vec3& v) : corner(c), edge_u(u), edge_v(v) {
     const Vec3 n = glm::cross(u, v);
     const float len2 = glm::dot(n, n);
-    area_ = std::sqrt(len2);
-    normal = area_ > 0.0f ? n / area_ : Vec3(0.0f);
-    w = len2 > 0.0f ? n / len2 : Vec3(0.0f);
+    area_value = std::sqrt(len2);
+    normal = area_value > 0.0f ? n / area_value : Vec3(0.0f);
+    inv_cross = len2 > 0.0f ? n / len2 : Vec3(0.0f);
 }
 
 Bounds3 Quad::bounds() const {
@@ -100,12 +109,14 @@ bool intersect_quad(const Quad& q, const Ray& ray, ShapeHit& hit) {
     const float t = glm::dot(q.normal, q.corner - ray.origin) / denom;
     if (!(t > 0.0f && t < ray.t_max)) return false;
     const Vec3 rel = ray.at(t) - q.corner;
-    const float a = glm::dot(q.w, glm::cross(rel, q.edge_v));
-    const float b = glm::dot(q.w, glm::cross(q.edge_u, rel));
+    // Edge coordinates: rel = a u + b v solved by Cramer's rule with the normal's cross product.
+    const float a = glm::dot(q.inv_cross, glm::cross(rel, q.edge_v));
+    const float b = glm::dot(q.inv_cross, glm::cross(q.edge_u, rel));
     if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) return false;
     hit.t = t;
     hit.u = a;
     hit.v = b;
+    hit.front = denom < 0.0f;  // the ray runs against the normal: it arrives from the front
     return true;
 }
 
@@ -113,8 +124,8 @@ SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit) {
     SurfaceGeometry g;
     g.p = q.corner + hit.u * q.edge_u + hit.v * q.edge_v;
     // Two products and two sums: gamma(4) of the magnitudes summed.
-    g.p_error = gamma_bound(4) * (glm::abs(q.corner) + glm::abs(hit.u * q.edge_u) +
-                                  glm::abs(hit.v * q.edge_v));
+    g.p_error = gamma_bound(4) *
+                (glm::abs(q.corner) + glm::abs(hit.u * q.edge_u) + glm::abs(hit.v * q.edge_v));
     g.n_geo = q.normal;
     g.n_shading = q.normal;
     g.uv = Vec2(hit.u, hit.v);
@@ -174,13 +185,16 @@ bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Vec3& p1,
     const float delta_e =
         2.0f * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
     const float max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
-    const float delta_t =
-        3.0f * (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
-        std::fabs(inv_det);
+    const float delta_t = 3.0f *
+                          (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
+                          std::fabs(inv_det);
     if (!(t > delta_t)) return false;
     hit.t = t;
     hit.u = e1 * inv_det;
     hit.v = e2 * inv_det;
+    // det is twice the triangle's signed area seen along the ray: positive when its vertices
+    // run counter-clockwise, i.e. when cross(p1 - p0, p2 - p0) faces the ray.
+    hit.front = det > 0.0f;
     return true;
 }
 
@@ -202,6 +216,7 @@ bool intersect_triangle_moller_trumbore(const Ray& ray, const Vec3& p0, const Ve
     hit.t = t;
     hit.u = u;
     hit.v = v;
+    hit.front = det > 0.0f;  // det = -d . cross(e1, e2)
     return true;
 }
 

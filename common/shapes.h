@@ -7,16 +7,21 @@
 // the surface_* functions, so rejected candidates cost as little as possible.
 #pragma once
 
+#include <cstdint>
+
 #include "bounds.h"
 #include "math.h"
-
-#include <cstdint>
 
 namespace lessons {
 
 struct ShapeHit {
     float t = kInfinity;
     float u = 0.0f, v = 0.0f;  // triangle: barycentrics of vertices 1 and 2; quad: edge coords
+    // Whether the ray arrived on the side the geometric normal points to. Decided by the
+    // intersection test itself (which root of the sphere, the sign of the triangle's determinant
+    // or of the quad's d.n), so it never disagrees with the hit, even at grazing angles where a
+    // separate sign test on dot(d, n) could flip.
+    bool front = true;
 };
 
 // Geometry of a hit point, as every lesson needs it.
@@ -55,14 +60,14 @@ SurfaceGeometry sphere_surface(const Sphere& s, const Ray& ray, const ShapeHit& 
 // normal is normalize(cross(edge_u, edge_v)): the order of the edges picks the front side.
 struct Quad {
     Vec3 corner, edge_u, edge_v;
-    Vec3 normal;  // unit
-    Vec3 w;       // cross(u, v) / |cross(u, v)|^2, for the edge coordinates
-    float area_;
+    Vec3 normal;       // unit
+    Vec3 inv_cross;    // cross(edge_u, edge_v) / |cross(edge_u, edge_v)|^2, for edge coordinates
+    float area_value;  // |cross(edge_u, edge_v)|
 
     Quad() = default;
     Quad(const Vec3& corner, const Vec3& edge_u, const Vec3& edge_v);
     Bounds3 bounds() const;
-    float area() const { return area_; }
+    float area() const { return area_value; }
     Vec3 center() const { return corner + 0.5f * (edge_u + edge_v); }
 };
 
@@ -79,8 +84,8 @@ SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit);
 // The per-ray shear is computed once per ray, not once per triangle.
 struct WatertightRay {
     Vec3 origin;
-    int kx, ky, kz;      // permutation that makes the largest direction component z
-    float sx, sy, sz;    // shear coefficients
+    int kx, ky, kz;    // permutation that makes the largest direction component z
+    float sx, sy, sz;  // shear coefficients
     explicit WatertightRay(const Ray& ray);
 };
 

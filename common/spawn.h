@@ -11,17 +11,11 @@
 // the arithmetic allows at every scale.
 #pragma once
 
-#include "math.h"
-
 #include <cmath>
 
-namespace lessons {
+#include "math.h"
 
-// gamma(n) = n u / (1 - n u), u = 2^-24: the relative error bound of n float operations.
-inline constexpr float gamma_bound(int n) {
-    constexpr float u = 0x1p-24f;
-    return n * u / (1.0f - n * u);
-}
+namespace lessons {
 
 // A point on a surface as spawning needs it.
 struct SurfacePoint {
@@ -38,8 +32,10 @@ inline Vec3 offset_ray_origin(const SurfacePoint& s, const Vec3& w) {
     Vec3 out = s.p + d * n;
     // One more float step along n in each axis (also when the error bound is zero).
     for (int i = 0; i < 3; ++i) {
-        if (n[i] > 0.0f) out[i] = std::nextafter(out[i], kInfinity);
-        else if (n[i] < 0.0f) out[i] = std::nextafter(out[i], -kInfinity);
+        if (n[i] > 0.0f)
+            out[i] = std::nextafter(out[i], kInfinity);
+        else if (n[i] < 0.0f)
+            out[i] = std::nextafter(out[i], -kInfinity);
     }
     return out;
 }

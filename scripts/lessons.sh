@@ -19,8 +19,9 @@ render() {  # render LESSON SCENE [extra flags...]
     echo "lessons: $OUT/$name.png"
 }
 
-for scene in cornell_box whitted_1979; do
+for scene in cornell_box cornell_spheres whitted_1979; do
     render 01_ray_casting "$scene"
+    render 02_whitted "$scene"
 done
 
 echo "lessons: done; images, EXRs and reports are in $OUT"

@@ -1,9 +1,9 @@
 // The BVH must return exactly what a brute-force loop over every primitive returns.
+#include <gtest/gtest.h>
+
 #include "bvh.h"
 #include "scene.h"
 #include "test_util.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -48,9 +48,9 @@ Scene random_scene(uint64_t seed, int spheres, int quads, int triangles, float e
     Scene scene;
     const uint32_t m = test::add_diffuse(scene, Color(0.5f));
     for (int i = 0; i < spheres; ++i)
-        scene.add_sphere({test::random_in_box(rng, -extent, extent),
-                          extent * (0.002f + 0.05f * rng.uniform())},
-                         m);
+        scene.add_sphere(
+            {test::random_in_box(rng, -extent, extent), extent * (0.002f + 0.05f * rng.uniform())},
+            m);
     for (int i = 0; i < quads; ++i) {
         const Vec3 c = test::random_in_box(rng, -extent, extent);
         scene.add_quad(Quad(c, 0.1f * extent * test::random_unit_vector(rng),

@@ -1,14 +1,14 @@
 // End to end: the lesson executables on the shipped scenes, and on bad input.
-#include "report.h"
-
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
+
+#include "report.h"
 
 namespace fs = std::filesystem;
 
@@ -48,38 +48,51 @@ fs::path fresh_dir(const std::string& name) {
 
 }  // namespace
 
-class LessonOnScene : public ::testing::TestWithParam<std::string> {};
+class LessonOnScene : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
 
 TEST_P(LessonOnScene, RendersWritesImagesAndAReportWithNoNaN) {
-    const fs::path dir = fresh_dir("render_" + GetParam());
-    const std::string exe = kBin + "/01_ray_casting";
-    const RunResult r = run(exe + " --scene " + kSource + "/scenes/" + GetParam() +
-                      ".toml --width 64 --height 48 --spp 2 --quiet --out " +
-                      (dir / "img").string() + " --report " + (dir / "report.json").string());
+    const auto& [lesson, scene] = GetParam();
+    const fs::path dir = fresh_dir("render_" + lesson + scene);
+    const std::string exe = kBin + "/" + lesson;
+    const RunResult r = run(exe + " --scene " + kSource + "/scenes/" + scene +
+                            ".toml --width 64 --height 48 --spp 2 --quiet --out " +
+                            (dir / "img").string() + " --report " + (dir / "report.json").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_GT(fs::file_size(dir / "img.exr"), 0u);
     EXPECT_GT(fs::file_size(dir / "img.png"), 0u);
     const std::string report = read_file(dir / "report.json");
-    for (const char* field : {"\"chapter\": \"01_ray_casting\"", "\"width\": 64", "\"height\": 48",
-                              "\"spp\": 2", "\"threads\"", "\"seconds\"", "\"rays\"",
-                              "\"nan_pixels\": 0", "\"inf_pixels\": 0", "\"scene\""})
+    const std::string chapter = "\"chapter\": \"" + lesson + "\"";
+    EXPECT_NE(report.find(chapter), std::string::npos) << report;
+    for (const char* field :
+         {"\"width\": 64", "\"height\": 48", "\"spp\": 2", "\"threads\"", "\"seconds\"", "\"rays\"",
+          "\"nan_pixels\": 0", "\"inf_pixels\": 0", "\"scene\""})
         EXPECT_NE(report.find(field), std::string::npos) << field << " in\n" << report;
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, LessonOnScene,
-                         ::testing::Values("cornell_box", "whitted_1979"));
+                         ::testing::Combine(::testing::Values("01_ray_casting", "02_whitted"),
+                                            ::testing::Values("cornell_box", "whitted_1979",
+                                                              "cornell_spheres")));
 
 TEST(Cli, BadSceneExitsWithTwoAndOneLineAndWritesNothing) {
     const fs::path dir = fresh_dir("bad");
     std::ofstream(dir / "bad.toml") << "[image]\nwidth = 64\nheight = -1\n";
-    const RunResult r = run(kBin + "/01_ray_casting --scene " + (dir / "bad.toml").string() + " --out " +
-                      (dir / "img").string());
+    const RunResult r = run(kBin + "/01_ray_casting --scene " + (dir / "bad.toml").string() +
+                            " --out " + (dir / "img").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("bad.toml:3: image.height: must be between 1 and 16384"),
               std::string::npos)
         << r.output;
     EXPECT_FALSE(fs::exists(dir / "img.exr"));
     EXPECT_FALSE(fs::exists(dir / "img.png"));
+}
+
+TEST(Cli, WhittedFlagsAreCheckedAndDocumented) {
+    EXPECT_EQ(run(kBin + "/02_whitted --fresnel approximate").exit_code, 2);
+    EXPECT_EQ(run(kBin + "/02_whitted --max-depth -1").exit_code, 2);
+    const RunResult help = run(kBin + "/02_whitted --help");
+    for (const char* flag : {"--max-depth", "--min-attenuation", "--fresnel", "--ambient"})
+        EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
 }
 
 TEST(Cli, BadFlagsExitWithTwo) {

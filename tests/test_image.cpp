@@ -1,10 +1,10 @@
 // Image output: EXR round trip, the sRGB curve, atomic writes.
-#include "film.h"
-#include "image.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include "film.h"
+#include "image.h"
 
 using namespace lessons;
 

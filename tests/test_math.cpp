@@ -1,18 +1,21 @@
 // Frames, the random-number generator and bounding boxes.
+#include <gtest/gtest.h>
+
+#include <set>
+
 #include "bounds.h"
 #include "math.h"
 #include "rng.h"
 #include "test_util.h"
 
-#include <gtest/gtest.h>
-
-#include <set>
-
 using namespace lessons;
 
 TEST(Frame, IsOrthonormalForEveryNormalIncludingTheHardOnes) {
     Rng rng(1);
-    std::vector<Vec3> normals = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0},
+    std::vector<Vec3> normals = {{0, 0, 1},
+                                 {0, 0, -1},
+                                 {1, 0, 0},
+                                 {0, -1, 0},
                                  glm::normalize(Vec3(1e-7f, 0, -1)),
                                  glm::normalize(Vec3(0, 1e-7f, -1))};
     for (int i = 0; i < 10000; ++i) normals.push_back(test::random_unit_vector(rng));

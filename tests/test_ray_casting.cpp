@@ -1,12 +1,13 @@
 // Lesson 1 against closed forms: a Lambertian sphere under a point light, an area light seen as
 // a point source, and the Blinn-Phong highlight.
+#include <gtest/gtest.h>
+
+#include <glm/vec3.hpp>
+
 #include "app.h"
 #include "ray_casting.h"
 #include "scene_file.h"
 #include "test_util.h"
-
-#include <glm/vec3.hpp>
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -95,7 +96,8 @@ TEST(RayCasting, BlinnPhongHighlightAtTheMirrorConfiguration) {
     glossy.albedo.value = Color(0.25f);
     glossy.specular = Color(0.5f);
     glossy.roughness = 0.2f;
-    scene.add_quad(Quad(Vec3(-5, 0, -5), Vec3(0, 0, 10), Vec3(10, 0, 0)), scene.add_material(glossy));
+    scene.add_quad(Quad(Vec3(-5, 0, -5), Vec3(0, 0, 10), Vec3(10, 0, 0)),
+                   scene.add_material(glossy));
     scene.add_point_light({Vec3(0, 2, 0), Color(8.0f)});
     scene.commit();
     const float e = blinn_phong_exponent(0.2f);

@@ -1,11 +1,11 @@
 // The render loop: the image does not depend on the number of threads or on how the samples
 // are split into passes.
+#include <gtest/gtest.h>
+
 #include "app.h"
 #include "ray_casting.h"
 #include "render.h"
 #include "scene_file.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 

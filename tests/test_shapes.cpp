@@ -1,11 +1,11 @@
 // Sphere, quad and triangle intersection against closed forms, and watertightness of a closed
 // mesh at its shared edges and vertices.
+#include <gtest/gtest.h>
+
 #include "bvh.h"
 #include "scene.h"
 #include "shapes.h"
 #include "test_util.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -53,7 +53,8 @@ TEST(Sphere, StableFormFindsTheSilhouetteOfAFarSmallSphere) {
         const Vec3 target(r * std::cos(phi), r * std::sin(phi), 0.0f);
         const Vec3 origin(0, 0, -1e4f);
         ShapeHit hit;
-        if (!intersect_sphere(s, Ray{origin, glm::normalize(target - origin)}, hit)) ++stable_misses;
+        if (!intersect_sphere(s, Ray{origin, glm::normalize(target - origin)}, hit))
+            ++stable_misses;
     }
     EXPECT_EQ(stable_misses, 0);
 }
@@ -67,7 +68,7 @@ TEST(Quad, HitsInsideMissesOutsideAndIncludesItsEdges) {
     EXPECT_FLOAT_EQ(hit.t, 5.0f);
     EXPECT_FLOAT_EQ(hit.u, 0.5f);
     EXPECT_FLOAT_EQ(hit.v, 0.5f);
-    EXPECT_TRUE(intersect_quad(q, Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)}, hit));  // corner
+    EXPECT_TRUE(intersect_quad(q, Ray{Vec3(0, 0, 0), Vec3(0, 0, 1)}, hit));     // corner
     EXPECT_TRUE(intersect_quad(q, Ray{Vec3(2, 0.3f, 0), Vec3(0, 0, 1)}, hit));  // edge
     EXPECT_FALSE(intersect_quad(q, Ray{Vec3(2.001f, 0.5f, 0), Vec3(0, 0, 1)}, hit));
     EXPECT_FALSE(intersect_quad(q, Ray{Vec3(1, 0.5f, 0), Vec3(1, 0, 0)}, hit));  // parallel
@@ -85,10 +86,10 @@ TEST(Triangle, BarycentricsAndDistanceMatchClosedForm) {
     EXPECT_NEAR(hit.v, 0.3f, 1e-6f);  // weight of p2
     // Both windings, and a ray from the other side.
     EXPECT_TRUE(intersect_triangle(WatertightRay(ray), p0, p2, p1, kInfinity, hit));
-    EXPECT_TRUE(intersect_triangle(WatertightRay(Ray{Vec3(0.2f, 0.3f, 6), Vec3(0, 0, -1)}), p0,
-                                   p1, p2, kInfinity, hit));
-    EXPECT_FALSE(intersect_triangle(WatertightRay(Ray{Vec3(0.6f, 0.6f, 0), Vec3(0, 0, 1)}), p0,
-                                    p1, p2, kInfinity, hit));
+    EXPECT_TRUE(intersect_triangle(WatertightRay(Ray{Vec3(0.2f, 0.3f, 6), Vec3(0, 0, -1)}), p0, p1,
+                                   p2, kInfinity, hit));
+    EXPECT_FALSE(intersect_triangle(WatertightRay(Ray{Vec3(0.6f, 0.6f, 0), Vec3(0, 0, 1)}), p0, p1,
+                                    p2, kInfinity, hit));
     EXPECT_FALSE(intersect_triangle(WatertightRay(ray), p0, p1, p2, 2.9f, hit));
     // Agrees with Moller-Trumbore away from edges.
     ShapeHit mt;
@@ -122,4 +123,39 @@ TEST(Triangle, ClosedMeshHasNoCracksAtSharedEdgesAndVertices) {
     }
     EXPECT_GT(rays, 100000);
     EXPECT_EQ(escapes, 0) << escapes << " of " << rays << " rays slipped through";
+}
+
+TEST(Shapes, TheSideHitIsDecidedByTheIntersectionAndAgreesWithTheNormal) {
+    // Away from grazing, `front` must equal dot(d, n_geo) < 0 for every shape.
+    Rng rng(21);
+    const Sphere sphere{Vec3(0), 1.0f};
+    const Quad quad(Vec3(-1, -1, 0), Vec3(2, 0, 0), Vec3(0, 2, 0));
+    const Vec3 p0(-1, -1, 0.5f), p1(1, -1, 0.5f), p2(0, 1, 0.5f);
+    const Vec3 tri_n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    int checked = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Ray ray{2.0f * test::random_in_box(rng, -1, 1), test::random_unit_vector(rng)};
+        ShapeHit h;
+        if (intersect_sphere(sphere, ray, h)) {
+            const SurfaceGeometry g = sphere_surface(sphere, ray, h);
+            if (std::fabs(glm::dot(ray.dir, g.n_geo)) > 1e-3f) {
+                EXPECT_EQ(h.front, glm::dot(ray.dir, g.n_geo) < 0.0f);
+                ++checked;
+            }
+        }
+        if (intersect_quad(quad, ray, h) && std::fabs(ray.dir.z) > 1e-3f) {
+            EXPECT_EQ(h.front, glm::dot(ray.dir, quad.normal) < 0.0f);
+            ++checked;
+        }
+        if (intersect_triangle(WatertightRay(ray), p0, p1, p2, kInfinity, h) &&
+            std::fabs(glm::dot(ray.dir, tri_n)) > 1e-3f) {
+            EXPECT_EQ(h.front, glm::dot(ray.dir, tri_n) < 0.0f);
+            ShapeHit mt;
+            if (intersect_triangle_moller_trumbore(ray, p0, p1, p2, mt)) {
+                EXPECT_EQ(mt.front, h.front);
+            }
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 5000);
 }

@@ -1,10 +1,11 @@
 // Rays spawned from a hit must not re-hit the surface they leave, at every scale
 // (ACCURACY.md hard case 3, in the spirit of pbrt-v4's Triangle.Reintersect test).
+#include <gtest/gtest.h>
+
+#include "optics.h"
 #include "scene.h"
 #include "spawn.h"
 #include "test_util.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -30,7 +31,8 @@ TEST_P(SpawnAtScale, NoSelfIntersectionOnTrianglesSpheresAndQuads) {
         for (int k = 0; k < 50; ++k) {
             // A ray from far away towards a random point of the scene's box.
             const Bounds3 b = scene.bounds();
-            const Vec3 target = b.min + Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * b.extent();
+            const Vec3 target =
+                b.min + Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * b.extent();
             const Vec3 origin = target + 4.0f * size * test::random_unit_vector(rng);
             const Ray ray{origin, glm::normalize(target - origin)};
             const std::optional<Hit> hit = scene.intersect(ray);
@@ -57,7 +59,8 @@ TEST_P(SpawnAtScale, NoSelfIntersectionOnTrianglesSpheresAndQuads) {
         }
     }
     EXPECT_GT(spawned, 50000);
-    EXPECT_EQ(self_hits, 0) << self_hits << " of " << spawned << " spawned rays re-hit their surface";
+    EXPECT_EQ(self_hits, 0) << self_hits << " of " << spawned
+                            << " spawned rays re-hit their surface";
 }
 
 INSTANTIATE_TEST_SUITE_P(Scales, SpawnAtScale,
@@ -66,8 +69,8 @@ INSTANTIATE_TEST_SUITE_P(Scales, SpawnAtScale,
 TEST(Spawn, ShadowRayBetweenTwoSurfacesHitsNeitherEnd) {
     Scene scene;
     const uint32_t m = test::add_diffuse(scene, Color(0.5f));
-    scene.add_quad(Quad(Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0)), m);    // floor, up
-    scene.add_quad(Quad(Vec3(-1, 3, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)), m);    // ceiling, down
+    scene.add_quad(Quad(Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0)), m);  // floor, up
+    scene.add_quad(Quad(Vec3(-1, 3, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)), m);  // ceiling, down
     scene.commit();
     Rng rng(5);
     for (int i = 0; i < 10000; ++i) {
@@ -91,3 +94,42 @@ TEST(Spawn, OffsetIsFiniteAndMovesToTheRequestedSide) {
         }
     }
 }
+
+class ThinSlabAtScale : public ::testing::TestWithParam<float> {};
+
+TEST_P(ThinSlabAtScale, RefractedRaysNeverTunnelAndReflectedRaysNeverReturn) {
+    // Two parallel quads of size s, 1e-4 s apart: a thin sheet of glass. A ray entering the top
+    // face must reach the bottom face, and the reflected ray must escape.
+    const float s = GetParam();
+    const float gap = 1e-4f * s;
+    Scene scene;
+    const uint32_t m = test::add_diffuse(scene, Color(0.5f));
+    scene.add_quad(Quad(Vec3(-s, 0, -s), Vec3(0, 0, 2 * s), Vec3(2 * s, 0, 0)), m);     // top, +y
+    scene.add_quad(Quad(Vec3(-s, -gap, -s), Vec3(2 * s, 0, 0), Vec3(0, 0, 2 * s)), m);  // bottom
+    scene.commit();
+    Rng rng(static_cast<uint64_t>(std::log10(s) + 50));
+    int tunnelled = 0, returned = 0, rays = 0;
+    for (int i = 0; i < 20000; ++i) {
+        Vec3 d = test::random_unit_vector(rng);
+        d.y = -std::fabs(d.y);
+        if (d.y > -0.02f) continue;  // keep some grazing rays, but hit inside the quads
+        const Vec3 target(0.5f * s * (2 * rng.uniform() - 1), 0.0f,
+                          0.5f * s * (2 * rng.uniform() - 1));
+        const Ray ray{target - 0.1f * s * d, d};
+        const std::optional<Hit> hit = scene.intersect(ray);
+        ASSERT_TRUE(hit);
+        const SurfaceInteraction si = scene.interaction(ray, *hit);
+        ++rays;
+        const Vec3 n(0, 1, 0);
+        const Vec3 refracted = *refract(si.wo, n, 1.5f);
+        const std::optional<Hit> below = scene.intersect(spawn_ray(si.surface_point(), refracted));
+        if (!below || below->prim == hit->prim) ++tunnelled;
+        if (scene.intersect(spawn_ray(si.surface_point(), reflect(si.wo, n)))) ++returned;
+    }
+    EXPECT_GT(rays, 10000);
+    EXPECT_EQ(tunnelled, 0) << "of " << rays;
+    EXPECT_EQ(returned, 0) << "of " << rays;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scales, ThinSlabAtScale,
+                         ::testing::Values(1e-4f, 1e-2f, 1.0f, 1e2f, 1e4f));

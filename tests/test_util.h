@@ -1,10 +1,10 @@
 // Small helpers shared by the tests: random geometry and a scene built in code.
 #pragma once
 
+#include <cmath>
+
 #include "rng.h"
 #include "scene.h"
-
-#include <cmath>
 
 namespace lessons::test {
 
@@ -23,7 +23,8 @@ inline Vec3 random_in_box(Rng& rng, float lo, float hi) {
 // A closed triangle mesh of the unit sphere (latitude-longitude, shared vertices at the seams
 // and poles) scaled by `radius` about `center`.
 inline void add_tessellated_sphere(Scene& scene, const Vec3& center, float radius, int rings,
-                                   int segments, uint32_t material, std::vector<Vec3>* out_vertices = nullptr) {
+                                   int segments, uint32_t material,
+                                   std::vector<Vec3>* out_vertices = nullptr) {
     std::vector<Vec3> positions;
     std::vector<Triangle> triangles;
     positions.push_back(center + Vec3(0, radius, 0));  // north pole: 0
@@ -49,9 +50,13 @@ inline void add_tessellated_sphere(Scene& scene, const Vec3& center, float radiu
     for (int i = 1; i < rings - 1; ++i)
         for (int j = 0; j < segments; ++j) {
             triangles.push_back(
-                {{ring_vertex(i, j), ring_vertex(i, j + 1), ring_vertex(i + 1, j + 1)}, material, false});
+                {{ring_vertex(i, j), ring_vertex(i, j + 1), ring_vertex(i + 1, j + 1)},
+                 material,
+                 false});
             triangles.push_back(
-                {{ring_vertex(i, j), ring_vertex(i + 1, j + 1), ring_vertex(i + 1, j)}, material, false});
+                {{ring_vertex(i, j), ring_vertex(i + 1, j + 1), ring_vertex(i + 1, j)},
+                 material,
+                 false});
         }
     scene.add_mesh(positions, {}, {}, triangles);
     if (out_vertices) *out_vertices = positions;

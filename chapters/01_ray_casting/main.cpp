@@ -1,9 +1,8 @@
 // Lesson 1: ray casting. The model is in ray_casting.cpp; this reads the lesson's one flag.
-#include "ray_casting.h"
+#include <CLI/CLI.hpp>
 
 #include "input_error.h"
-
-#include <CLI/CLI.hpp>
+#include "ray_casting.h"
 
 int main(int argc, char** argv) {
     using namespace lessons;

@@ -1,10 +1,10 @@
 // Lesson 1: ray casting (see ray_casting.h for the model's equation).
 #include "ray_casting.h"
 
-#include "spawn.h"
-
 #include <cmath>
 #include <cstdio>
+
+#include "spawn.h"
 
 namespace lessons {
 
@@ -14,8 +14,9 @@ namespace {
 // and the point a shadow ray must reach unobstructed.
 struct PointSource {
     Vec3 position;
-    Color intensity;      // W/sr towards the shaded point
-    SurfacePoint shadow_target;  // normal zero for a point light, which lies on no surface
+    Color intensity;                 // W/sr towards the shaded point
+    SurfacePoint shadow_target;      // normal zero for a point light, which lies on no surface
+    std::optional<PrimRef> emitter;  // the primitive the target lies on, if any
 };
 
 // Area light -> point source. A flat emitter of radiance L_e and area A sends intensity
@@ -25,6 +26,7 @@ struct PointSource {
 PointSource as_point_source(const AreaLight& light, const Scene& scene, const Vec3& p) {
     PointSource s;
     s.position = light.center;
+    s.emitter = light.prim;
     if (light.prim.kind() == ShapeKind::Sphere) {
         const float r = scene.spheres()[light.prim.index()].radius;
         const Vec3 out = glm::normalize(p - light.center);
@@ -61,10 +63,14 @@ Color shade_from(const Scene& scene, const SurfaceInteraction& si, const LocalMa
     wi /= std::sqrt(distance_squared);
     const float cos_i = glm::dot(n, wi);
     if (cos_i <= 0.0f) return Color(0.0f);  // the light is behind the surface
+    // ... also behind the actual (geometric) surface: an interpolated shading normal can lean
+    // towards a light the true surface faces away from, which would leak light through it.
+    const Vec3 n_geo = glm::dot(si.n_geo, n) < 0.0f ? -si.n_geo : si.n_geo;
+    if (glm::dot(n_geo, wi) <= 0.0f) return Color(0.0f);
     const bool on_surface = glm::dot(light.shadow_target.n, light.shadow_target.n) > 0.0f;
     const Ray shadow = on_surface ? spawn_ray_between(si.surface_point(), light.shadow_target)
                                   : spawn_ray_to(si.surface_point(), light.shadow_target.p);
-    if (scene.occluded(shadow)) return Color(0.0f);
+    if (scene.occluded(shadow, light.emitter)) return Color(0.0f);
     // Irradiance from a point source: E = I cos(theta_i) / d^2 (inverse-square law).
     const Color irradiance = light.intensity * (cos_i / distance_squared);
     return blinn_phong(m, n, si.wo, wi) * irradiance;
@@ -85,14 +91,20 @@ float blinn_phong_exponent(float roughness) {
 LocalMaterial local_material(const Material& m, const Vec2& uv) {
     LocalMaterial l;
     switch (m.type) {
-        case MaterialType::Diffuse: l.k_d = m.albedo.eval(uv); break;
+        case MaterialType::Diffuse:
+            l.k_d = m.albedo.eval(uv);
+            break;
         case MaterialType::Glossy:
             l.k_d = m.albedo.eval(uv);
             l.k_s = m.specular;
             l.exponent = blinn_phong_exponent(m.roughness);
             break;
-        case MaterialType::Mirror: l.k_d = m.reflectance; break;
-        case MaterialType::Glass: l.k_d = Color(1.0f); break;
+        case MaterialType::Mirror:
+            l.k_d = m.reflectance;
+            break;
+        case MaterialType::Glass:
+            l.k_d = Color(1.0f);
+            break;
     }
     return l;
 }
@@ -121,7 +133,10 @@ Color direct_local(const Scene& scene, const SurfaceInteraction& si, const Local
     Color L(0.0f);
     for (const PointLight& light : scene.point_lights())
         L += shade_from(scene, si, m, n,
-                        {light.position, light.intensity, {light.position, Vec3(0.0f), Vec3(0.0f)}});
+                        {light.position,
+                         light.intensity,
+                         {light.position, Vec3(0.0f), Vec3(0.0f)},
+                         std::nullopt});
     for (const AreaLight& light : scene.area_lights()) {
         if (light.prim == si.prim) continue;  // an emitter does not light itself
         L += shade_from(scene, si, m, n, as_point_source(light, scene, si.p));
@@ -142,7 +157,9 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
 
 Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options) {
     Model model;
-    model.radiance = [&scene, options](const Ray& ray, Rng&) { return ray_cast(scene, ray, options); };
+    model.radiance = [&scene, options](const Ray& ray, Rng&) {
+        return ray_cast(scene, ray, options);
+    };
     if (!scene.area_lights().empty())
         model.notes.push_back(std::to_string(scene.area_lights().size()) +
                               " emissive primitive(s): each treated as a point source at its "

@@ -10,18 +10,18 @@
 // Area lights are treated as point sources at their centre (hard shadows).
 #pragma once
 
-#include "app.h"
-#include "scene.h"
-
 #include <string>
 #include <vector>
+
+#include "app.h"
+#include "scene.h"
 
 namespace lessons {
 
 // A material as the local model sees it: a diffuse and a Blinn-Phong reflectance.
 struct LocalMaterial {
-    Color k_d{0.0f};   // diffuse reflectance (albedo)
-    Color k_s{0.0f};   // specular reflectance of the highlight
+    Color k_d{0.0f};        // diffuse reflectance (albedo)
+    Color k_s{0.0f};        // specular reflectance of the highlight
     float exponent = 1.0f;  // Blinn-Phong exponent e
 };
 

@@ -1,0 +1,113 @@
+// Lesson 2: Whitted-style recursive ray tracing (see whitted.h for the model's equations).
+#include "whitted.h"
+
+#include <cstdio>
+
+#include "optics.h"
+#include "spawn.h"
+
+namespace lessons {
+
+namespace {
+
+// Follows one specular branch: the ray from the surface along `dir`, carrying `weight`
+// (R, F or (1 - F) / eta^2). A branch past the depth limit, or too faint to matter, stops
+// and contributes nothing.
+Color follow(const Scene& scene, const SurfaceInteraction& si, const Vec3& dir, const Color& weight,
+             const WhittedOptions& options, int depth, const Color& attenuation) {
+    const Color branch_attenuation = attenuation * weight;
+    if (depth + 1 > options.max_depth) return Color(0.0f);
+    if (max_component(branch_attenuation) < options.min_attenuation) return Color(0.0f);
+    return weight * whitted(scene, spawn_ray(si.surface_point(), dir), options, depth + 1,
+                            branch_attenuation);
+}
+
+}  // namespace
+
+Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options, int depth,
+              const Color& attenuation) {
+    const std::optional<Hit> hit = scene.intersect(ray);
+    if (!hit) return scene.background;
+    const SurfaceInteraction si = scene.interaction(ray, *hit);
+    const Material& material = scene.material(si.material);
+    // The shading normal on the side the ray arrived from (decided by the intersection test).
+    const Vec3 n = si.front_face() ? si.n_shading : -si.n_shading;
+    Color L = scene.emitted(si);
+
+    switch (material.type) {
+        case MaterialType::Mirror: {
+            // L = R * L(p, reflect(wo))
+            L += follow(scene, si, reflect(si.wo, n), material.reflectance, options, depth,
+                        attenuation);
+            break;
+        }
+        case MaterialType::Glass: {
+            // Entering through the front (n_geo's side) goes from outside (index 1) to inside.
+            const float eta = si.front_face() ? material.ior : 1.0f / material.ior;
+            const float cos_i = glm::dot(si.wo, n);
+            const float F =
+                options.schlick ? fresnel_schlick(cos_i, eta) : fresnel_dielectric(cos_i, eta);
+            // F * L(p, reflect(wo)): the reflected part (all of it past the critical angle).
+            L += follow(scene, si, reflect(si.wo, n), Color(F), options, depth, attenuation);
+            // (1 - F) / eta^2 * L(p, refract(wo)): radiance divided by n^2 is what an interface
+            // conserves, so crossing into a denser medium compresses the beam's solid angle.
+            if (F < 1.0f)
+                if (const std::optional<Vec3> wt = refract(si.wo, n, eta))
+                    L += follow(scene, si, *wt, Color((1.0f - F) / (eta * eta)), options, depth,
+                                attenuation);
+            break;
+        }
+        case MaterialType::Diffuse:
+        case MaterialType::Glossy: {
+            // Lesson 1's model, and the recursion stops here.
+            const LocalMaterial m = local_material(material, si.uv);
+            L += m.k_d * options.ambient + direct_local(scene, si, m, n);
+            break;
+        }
+    }
+    return L;
+}
+
+Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
+    Model model;
+    model.radiance = [&scene, options](const Ray& ray, Rng&) {
+        return whitted(scene, ray, options);
+    };
+    char limits[160];
+    std::snprintf(limits, sizeof limits,
+                  "specular recursion stops after %d bounces or below attenuation %g; stopped "
+                  "rays contribute nothing",
+                  options.max_depth, options.min_attenuation);
+    model.notes.push_back(limits);
+    if (!scene.area_lights().empty())
+        model.notes.push_back(std::to_string(scene.area_lights().size()) +
+                              " emissive primitive(s): point sources at their centres for "
+                              "shadow rays, as in lesson 1; seen directly and in mirrors as "
+                              "surfaces");
+    for (const Material& m : scene.materials())
+        if (m.type == MaterialType::Glossy)
+            model.notes.push_back("material '" + m.name +
+                                  "' (glossy): Blinn-Phong highlight only; no glossy reflection "
+                                  "of other surfaces");
+    bool has_glass = false, has_specular = false;
+    for (const Material& m : scene.materials()) {
+        has_glass |= m.type == MaterialType::Glass;
+        has_specular |= m.type == MaterialType::Glass || m.type == MaterialType::Mirror;
+    }
+    if (has_glass)
+        model.notes.push_back(std::string("glass: ") +
+                              (options.schlick ? "Schlick's approximation" : "exact Fresnel") +
+                              "; shadow rays are blocked by glass like by any surface (no "
+                              "caustics)");
+    if (!has_specular)
+        model.notes.push_back("no mirror or glass in this scene: the image equals lesson 1's");
+    char ambient[120];
+    std::snprintf(ambient, sizeof ambient,
+                  "indirect diffuse light ignored; ambient radiance L_a = (%g, %g, %g) stands in "
+                  "for it (--ambient)",
+                  options.ambient.x, options.ambient.y, options.ambient.z);
+    model.notes.push_back(ambient);
+    return model;
+}
+
+}  // namespace lessons
