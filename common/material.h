@@ -11,21 +11,19 @@ namespace lessons {
 
 enum class MaterialType {
     Diffuse,  // Lambertian: albedo
-    Glossy,   // albedo (diffuse base) + a glossy lobe: specular reflectance and roughness
+    Glossy,     // albedo (diffuse base) + a Blinn-Phong glossy lobe: specular and roughness
+    Conductor,  // rough metal (GGX microfacets): specular = reflectance at normal incidence
     Mirror,   // perfect specular reflection: reflectance
     Glass,    // smooth dielectric: index of refraction
 };
 
 inline const char* material_type_name(MaterialType t) {
     switch (t) {
-        case MaterialType::Diffuse:
-            return "diffuse";
-        case MaterialType::Glossy:
-            return "glossy";
-        case MaterialType::Mirror:
-            return "mirror";
-        case MaterialType::Glass:
-            return "glass";
+        case MaterialType::Diffuse: return "diffuse";
+        case MaterialType::Glossy: return "glossy";
+        case MaterialType::Conductor: return "conductor";
+        case MaterialType::Mirror: return "mirror";
+        case MaterialType::Glass: return "glass";
     }
     return "?";
 }
@@ -51,8 +49,8 @@ struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
     ColorTexture albedo;      // diffuse reflectance in [0, 1] (Diffuse, Glossy)
-    Color specular{1.0f};     // reflectance of the glossy lobe at normal incidence (Glossy)
-    float roughness = 0.5f;   // microfacet roughness alpha in (0, 1] (Glossy)
+    Color specular{1.0f};     // lobe reflectance at normal incidence (Glossy, Conductor)
+    float roughness = 0.5f;   // microfacet roughness alpha in (0, 1] (Glossy, Conductor)
     Color reflectance{1.0f};  // mirror reflectance (Mirror)
     float ior = 1.5f;         // index of refraction, inside over outside (Glass)
     Color emission{0.0f};     // emitted radiance, W / (sr m^2)

@@ -56,22 +56,17 @@ void Scene::add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>
 
 uint32_t Scene::material_of(PrimRef prim) const {
     switch (prim.kind()) {
-        case ShapeKind::Sphere:
-            return sphere_materials_[prim.index()];
-        case ShapeKind::Quad:
-            return quad_materials_[prim.index()];
-        case ShapeKind::Triangle:
-            return triangles_[prim.index()].material;
+        case ShapeKind::Sphere: return sphere_materials_[prim.index()];
+        case ShapeKind::Quad: return quad_materials_[prim.index()];
+        case ShapeKind::Triangle: return triangles_[prim.index()].material;
     }
     return 0;
 }
 
 Bounds3 Scene::primitive_bounds(PrimRef prim) const {
     switch (prim.kind()) {
-        case ShapeKind::Sphere:
-            return spheres_[prim.index()].bounds();
-        case ShapeKind::Quad:
-            return quads_[prim.index()].bounds();
+        case ShapeKind::Sphere: return spheres_[prim.index()].bounds();
+        case ShapeKind::Quad: return quads_[prim.index()].bounds();
         case ShapeKind::Triangle: {
             const Triangle& t = triangles_[prim.index()];
             Bounds3 b;
@@ -198,9 +193,7 @@ SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
         case ShapeKind::Sphere:
             g = sphere_surface(spheres_[hit.prim.index()], ray, hit.shape);
             break;
-        case ShapeKind::Quad:
-            g = quad_surface(quads_[hit.prim.index()], hit.shape);
-            break;
+        case ShapeKind::Quad: g = quad_surface(quads_[hit.prim.index()], hit.shape); break;
         case ShapeKind::Triangle: {
             const Triangle& t = triangles_[hit.prim.index()];
             const float b1 = hit.shape.u, b2 = hit.shape.v, b0 = 1.0f - b1 - b2;

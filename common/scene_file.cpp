@@ -188,20 +188,13 @@ public:
 
     static std::string type_name(const toml::node& n) {
         switch (n.type()) {
-            case toml::node_type::string:
-                return "a string";
-            case toml::node_type::integer:
-                return "an integer";
-            case toml::node_type::floating_point:
-                return "a number";
-            case toml::node_type::boolean:
-                return "a boolean";
-            case toml::node_type::array:
-                return "an array";
-            case toml::node_type::table:
-                return "a table";
-            default:
-                return "a date or time";
+            case toml::node_type::string: return "a string";
+            case toml::node_type::integer: return "an integer";
+            case toml::node_type::floating_point: return "a number";
+            case toml::node_type::boolean: return "a boolean";
+            case toml::node_type::array: return "an array";
+            case toml::node_type::table: return "a table";
+            default: return "a date or time";
         }
     }
 
@@ -241,8 +234,8 @@ ColorTexture parse_albedo(TableReader& r, std::string_view key) {
 
 const std::vector<std::pair<std::string, std::string>> kMaterialFieldOwners = {
     {"albedo", "diffuse and glossy materials"},
-    {"specular", "glossy materials"},
-    {"roughness", "glossy materials"},
+    {"specular", "glossy and conductor materials"},
+    {"roughness", "glossy and conductor materials"},
     {"reflectance", "mirror materials"},
     {"ior", "glass materials"}};
 
@@ -274,6 +267,11 @@ MaterialDescription parse_material(const toml::table& t, const std::string& file
                    "albedo + specular must be at most 1 in every channel (a surface cannot "
                    "reflect more light than it receives); lower specular (default 1)");
         allowed.insert(allowed.end(), {"albedo", "specular", "roughness"});
+    } else if (type == "conductor") {
+        m.type = MaterialType::Conductor;
+        m.specular = r.color("specular", true);
+        m.roughness = static_cast<float>(r.number_in("roughness", 0.0, 1.0, true, false));
+        allowed.insert(allowed.end(), {"specular", "roughness"});
     } else if (type == "mirror") {
         m.type = MaterialType::Mirror;
         m.reflectance = r.color("reflectance", true, Color(1.0f));
@@ -283,11 +281,12 @@ MaterialDescription parse_material(const toml::table& t, const std::string& file
         m.ior = static_cast<float>(r.number_in("ior", 0.0, 10.0, true, false, 1.5));
         allowed.push_back("ior");
     } else {
-        const std::vector<std::string> types = {"diffuse", "glossy", "mirror", "glass"};
+        const std::vector<std::string> types = {"diffuse", "glossy", "conductor", "mirror",
+                                                "glass"};
         std::string message = "unknown material type '" + type + "'";
         const std::string guess = closest_match(type, types);
         if (!guess.empty()) message += "; did you mean '" + guess + "'?";
-        r.fail("type", message + " (known: diffuse, glossy, mirror, glass)");
+        r.fail("type", message + " (known: diffuse, glossy, conductor, mirror, glass)");
     }
     r.reject_unknown(allowed, "a " + type + " material", kMaterialFieldOwners);
     return d;

@@ -88,7 +88,7 @@ TEST(RayCasting, QuadLightIsAPointSourceOfIntensityLACosTheta) {
 }
 
 TEST(RayCasting, BlinnPhongHighlightAtTheMirrorConfiguration) {
-    // When h = n, f = k_d / pi + k_s (e + 8) / (8 pi).
+    // When h = n, f = k_d / pi + k_s N(e), N(e) = (e + 2)(e + 4) / (8 pi (2^(-e/2) + e)).
     Scene scene;
     Material glossy;
     glossy.name = "glossy";
@@ -103,7 +103,8 @@ TEST(RayCasting, BlinnPhongHighlightAtTheMirrorConfiguration) {
     const float e = blinn_phong_exponent(0.2f);
     EXPECT_FLOAT_EQ(e, 48.0f);
     const Color L = ray_cast(scene, Ray{Vec3(0, 1, 0), Vec3(0, -1, 0)}, {});
-    const float f = 0.25f * kInvPi + 0.5f * (e + 8.0f) / (8.0f * kPi);
+    const float f =
+        0.25f * kInvPi + 0.5f * (e + 2.0f) * (e + 4.0f) / (8.0f * kPi * (std::exp2(-e / 2) + e));
     EXPECT_NEAR(L.x, f * 8.0f / 4.0f, 1e-5f);
 }
 

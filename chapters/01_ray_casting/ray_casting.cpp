@@ -42,17 +42,6 @@ PointSource as_point_source(const AreaLight& light, const Scene& scene, const Ve
     return s;
 }
 
-// f(wo, wi) = k_d / pi + k_s (e + 8) / (8 pi) (n . h)^e, the normalised Blinn-Phong BRDF.
-Color blinn_phong(const LocalMaterial& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
-    Color f = m.k_d * kInvPi;
-    if (!is_black(m.k_s)) {
-        const Vec3 h = glm::normalize(wi + wo);
-        const float cos_h = std::fmax(glm::dot(n, h), 0.0f);
-        f += m.k_s * ((m.exponent + 8.0f) / (8.0f * kPi) * std::pow(cos_h, m.exponent));
-    }
-    return f;
-}
-
 // Adds f * I cos(theta_i) / d^2 from one point source, if the shadow ray reaches it.
 Color shade_from(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
                  const Vec3& n, const PointSource& light) {
@@ -73,7 +62,8 @@ Color shade_from(const Scene& scene, const SurfaceInteraction& si, const LocalMa
     if (scene.occluded(shadow, light.emitter)) return Color(0.0f);
     // Irradiance from a point source: E = I cos(theta_i) / d^2 (inverse-square law).
     const Color irradiance = light.intensity * (cos_i / distance_squared);
-    return blinn_phong(m, n, si.wo, wi) * irradiance;
+    // f(wo, wi) = k_d / pi + k_s N(e) (n . h)^e: Lambert and the normalised Blinn-Phong lobe.
+    return blinn_phong_brdf(m.k_d, m.k_s, m.exponent, n, si.wo, wi) * irradiance;
 }
 
 std::string rgb(const Color& c) {
@@ -84,27 +74,21 @@ std::string rgb(const Color& c) {
 
 }  // namespace
 
-float blinn_phong_exponent(float roughness) {
-    return std::fmax(2.0f / (roughness * roughness) - 2.0f, 0.0f);
-}
-
 LocalMaterial local_material(const Material& m, const Vec2& uv) {
     LocalMaterial l;
     switch (m.type) {
-        case MaterialType::Diffuse:
-            l.k_d = m.albedo.eval(uv);
-            break;
+        case MaterialType::Diffuse: l.k_d = m.albedo.eval(uv); break;
         case MaterialType::Glossy:
             l.k_d = m.albedo.eval(uv);
             l.k_s = m.specular;
             l.exponent = blinn_phong_exponent(m.roughness);
             break;
-        case MaterialType::Mirror:
-            l.k_d = m.reflectance;
+        case MaterialType::Conductor:  // a metal: all highlight, no diffuse base
+            l.k_s = m.specular;
+            l.exponent = blinn_phong_exponent(m.roughness);
             break;
-        case MaterialType::Glass:
-            l.k_d = Color(1.0f);
-            break;
+        case MaterialType::Mirror: l.k_d = m.reflectance; break;
+        case MaterialType::Glass: l.k_d = Color(1.0f); break;
     }
     return l;
 }
@@ -119,8 +103,9 @@ std::vector<std::string> local_material_notes(const Scene& scene) {
             notes.push_back("material '" + m.name +
                             "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
                             "absorbs nothing); no refraction, no reflection");
-        if (m.type == MaterialType::Glossy)
-            notes.push_back("material '" + m.name + "' (glossy, roughness " +
+        if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
+            notes.push_back("material '" + m.name + "' (" + material_type_name(m.type) +
+                            ", roughness " +
                             std::to_string(m.roughness) + "): Blinn-Phong highlight, exponent " +
                             std::to_string(blinn_phong_exponent(m.roughness)) +
                             "; no glossy reflection of other surfaces");

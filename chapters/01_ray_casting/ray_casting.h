@@ -3,7 +3,7 @@
 //
 //   L = L_e + k_d * L_a + sum over lights l of  f(wo, wi_l) * I_l cos(theta_i) / d_l^2 * V_l
 //
-//   f(wo, wi) = k_d / pi + k_s (e + 8) / (8 pi) * (n . h)^e      (Lambert + normalised Blinn-Phong)
+//   f(wo, wi) = k_d / pi + k_s N(e) (n . h)^e      (Lambert + normalised Blinn-Phong, bsdf.h)
 //
 // with L_a a constant ambient radiance standing in for all indirect light, I_l the light's
 // intensity towards the point, d_l its distance, V_l = 1 if the shadow ray reaches it.
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app.h"
+#include "bsdf.h"
 #include "scene.h"
 
 namespace lessons {
@@ -28,11 +29,6 @@ struct LocalMaterial {
 // How the local model reads each material type; appends a note for each approximation.
 LocalMaterial local_material(const Material& m, const Vec2& uv);
 std::vector<std::string> local_material_notes(const Scene& scene);
-
-// The Blinn-Phong exponent matching microfacet roughness alpha: e = 2 / alpha^2 - 2, the
-// exponent whose lobe has the same width as a Beckmann distribution of that roughness
-// (Walter et al. 2007).
-float blinn_phong_exponent(float roughness);
 
 // Direct light from every light in the scene, each treated as a point source, with one shadow
 // ray each: the sum over lights of f * I cos / d^2 * V.

@@ -58,7 +58,8 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
             break;
         }
         case MaterialType::Diffuse:
-        case MaterialType::Glossy: {
+        case MaterialType::Glossy:
+        case MaterialType::Conductor: {
             // Lesson 1's model, and the recursion stops here.
             const LocalMaterial m = local_material(material, si.uv);
             L += m.k_d * options.ambient + direct_local(scene, si, m, n);
@@ -85,10 +86,10 @@ Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
                               "shadow rays, as in lesson 1; seen directly and in mirrors as "
                               "surfaces");
     for (const Material& m : scene.materials())
-        if (m.type == MaterialType::Glossy)
-            model.notes.push_back("material '" + m.name +
-                                  "' (glossy): Blinn-Phong highlight only; no glossy reflection "
-                                  "of other surfaces");
+        if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
+            model.notes.push_back("material '" + m.name + "' (" + material_type_name(m.type) +
+                                  "): Blinn-Phong highlight only; no glossy reflection of other "
+                                  "surfaces");
     bool has_glass = false, has_specular = false;
     for (const Material& m : scene.materials()) {
         has_glass |= m.type == MaterialType::Glass;
