@@ -118,10 +118,10 @@ inline Chi2Result chi2_test_directions(const std::function<bool(Vec3&)>& sample,
             const double p0 = 2.0 * kPi * pi / phi_cells, p1 = 2.0 * kPi * (pi + 1) / phi_cells;
             const double cell = adaptive_simpson(
                 [&](double c) {
-                    return adaptive_simpson([&](double p) { return pdf(dir(c, p)); }, p0, p1, 1e-7,
-                                            6);
+                    return adaptive_simpson([&](double p) { return pdf(dir(c, p)); }, p0, p1, 1e-9,
+                                            12);
                 },
-                c0, c1, 1e-6, 6);
+                c0, c1, 1e-8, 12);
             expected[static_cast<size_t>(ci) * phi_cells + pi] = cell * samples;
             integral += cell;
         }

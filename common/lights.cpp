@@ -1,0 +1,197 @@
+// Light selection by power, and sampling each kind of light (see lights.h).
+#include "lights.h"
+
+#include "sampling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lessons {
+
+namespace {
+
+// Emitted power, W (luminance), which sets how often a light is chosen.
+float power_of(const AreaLight& light) {
+    // A Lambertian emitter of radiance L and area A sends pi L A from each emitting side.
+    const float sides = light.two_sided ? 2.0f : 1.0f;
+    return kPi * luminance(light.radiance) * light.area * sides;
+}
+
+}  // namespace
+
+LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
+    std::vector<float> power;
+    for (uint32_t i = 0; i < scene.point_lights().size(); ++i) {
+        // An isotropic point source of intensity I sends 4 pi I.
+        const float p = 4.0f * kPi * luminance(scene.point_lights()[i].intensity);
+        if (p <= 0.0f) continue;
+        lights_.push_back({Kind::Point, i});
+        power.push_back(p);
+        has_point_lights_ = true;
+    }
+    for (uint32_t i = 0; i < scene.area_lights().size(); ++i) {
+        const float p = power_of(scene.area_lights()[i]);
+        if (!(p > 0.0f) || !std::isfinite(p)) continue;
+        light_of_primitive_[scene.area_lights()[i].prim.bits] = lights_.size();
+        lights_.push_back({Kind::Area, i});
+        power.push_back(p);
+    }
+    if (!is_black(scene.background)) {
+        // A uniform environment of radiance L falls on the scene's bounding sphere (radius R)
+        // as if through a disk of area pi R^2 from every direction: power pi L pi R^2.
+        const Bounds3 b = scene.bounds();
+        const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
+        environment_ = lights_.size();
+        lights_.push_back({Kind::Environment, 0});
+        power.push_back(kPi * kPi * r * r * luminance(scene.background));
+    }
+    double total = 0.0;
+    for (float p : power) total += p;
+    double running = 0.0;
+    for (float p : power) {
+        running += p;
+        cdf_.push_back(static_cast<float>(running / total));
+    }
+    if (!cdf_.empty()) cdf_.back() = 1.0f;
+}
+
+float LightSampler::choice_probability(size_t light) const {
+    return cdf_[light] - (light > 0 ? cdf_[light - 1] : 0.0f);
+}
+
+float LightSampler::environment_pdf() const {
+    return environment_ ? choice_probability(*environment_) * uniform_sphere_pdf() : 0.0f;
+}
+
+std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_choose,
+                                                const Vec2& u) const {
+    if (lights_.empty()) return std::nullopt;
+    const size_t light = std::min<size_t>(
+        std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(), lights_.size() - 1);
+    const float choose = choice_probability(light);
+    if (!(choose > 0.0f)) return std::nullopt;
+    const Entry& e = lights_[light];
+    std::optional<LightSample> s;
+    switch (e.kind) {
+        case Kind::Point: {
+            const PointLight& l = scene_.point_lights()[e.index];
+            const Vec3 d = l.position - at.p;
+            const float d2 = glm::dot(d, d);
+            if (!(d2 > 0.0f)) return std::nullopt;
+            // Irradiance from a point source facing it: E = I / d^2.
+            s = LightSample{l.intensity / d2, d / std::sqrt(d2), 1.0f, true,
+                            spawn_ray_to(at, l.position), std::nullopt};
+            break;
+        }
+        case Kind::Area: s = sample_area(scene_.area_lights()[e.index], at, u); break;
+        case Kind::Environment: {
+            const Vec3 wi = sample_uniform_sphere(u);
+            s = LightSample{scene_.background, wi, uniform_sphere_pdf(), false, spawn_ray(at, wi),
+                            std::nullopt};
+            break;
+        }
+    }
+    if (!s) return std::nullopt;
+    s->pdf *= choose;
+    return s;
+}
+
+std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, const SurfacePoint& at,
+                                                     const Vec2& u) const {
+    Vec3 q, n_q, q_error;
+    float pdf_solid_angle = 0.0f;
+    const PrimRef prim = light.prim;
+    if (prim.kind() == ShapeKind::Sphere) {
+        const Sphere& s = scene_.spheres()[prim.index()];
+        const Vec3 to_center = s.center - at.p;
+        const float d2 = glm::dot(to_center, to_center);
+        const float r2 = s.radius * s.radius;
+        if (d2 <= r2 * 1.0001f) {
+            // From inside (or on) the sphere, sample its whole area: p_A = 1 / (4 pi r^2).
+            n_q = sample_uniform_sphere(u);
+            q = s.center + s.radius * n_q;
+            const Vec3 d = q - at.p;
+            pdf_solid_angle = area_to_solid_angle_pdf(1.0f / s.area(), glm::dot(d, d),
+                                                      glm::dot(n_q, glm::normalize(-d)));
+        } else {
+            // The sphere subtends a cone of half-angle theta_max, sin(theta_max) = r / d. Pick a
+            // direction uniformly in it, then the point where it first meets the sphere: seen
+            // from the center, at angle alpha from the axis, with
+            //   cos(alpha) = sin^2(theta) / sin(theta_max) + cos(theta) sqrt(1 - sin^2(theta) / sin^2(theta_max)).
+            const float sin2_max = r2 / d2;
+            const float sin_max = std::sqrt(sin2_max);
+            // 1 - cos(theta_max) without cancellation for small cones.
+            const float one_minus_cos_max = sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
+            const float one_minus_cos = u.x * one_minus_cos_max;
+            const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
+            const float cos_theta = 1.0f - one_minus_cos;
+            const float cos_alpha =
+                sin2 / sin_max + cos_theta * std::sqrt(std::max(0.0f, 1.0f - sin2 / sin2_max));
+            const float sin_alpha = std::sqrt(std::max(0.0f, 1.0f - cos_alpha * cos_alpha));
+            const float phi = 2.0f * kPi * u.y;
+            const Frame frame(glm::normalize(to_center));
+            // The point's normal points back towards the shading point's side of the sphere.
+            n_q = glm::normalize(frame.to_world(
+                -Vec3(sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha)));
+            q = s.center + s.radius * n_q;
+            pdf_solid_angle = uniform_cone_pdf(one_minus_cos_max);
+        }
+        q_error = gamma_bound(5) * (glm::abs(s.center) + Vec3(s.radius));
+    } else if (prim.kind() == ShapeKind::Quad) {
+        const Quad& quad = scene_.quads()[prim.index()];
+        q = quad.corner + u.x * quad.edge_u + u.y * quad.edge_v;
+        n_q = quad.normal;
+        q_error = gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(u.x * quad.edge_u) +
+                                    glm::abs(u.y * quad.edge_v));
+    } else {
+        const Triangle& t = scene_.triangles()[prim.index()];
+        const Vec3 &p0 = scene_.positions()[t.v[0]], &p1 = scene_.positions()[t.v[1]],
+                   &p2 = scene_.positions()[t.v[2]];
+        const Vec2 b = sample_uniform_triangle(u);
+        const float b0 = 1.0f - b.x - b.y;
+        q = b0 * p0 + b.x * p1 + b.y * p2;
+        n_q = light.normal;
+        q_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b.x * p1) + glm::abs(b.y * p2));
+    }
+
+    Vec3 d = q - at.p;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.0f)) return std::nullopt;
+    const float distance = std::sqrt(d2);
+    const Vec3 wi = d / distance;
+    const float cos_light = glm::dot(n_q, -wi);  // > 0: the light's front faces the point
+    if (cos_light <= 0.0f && !light.two_sided) return std::nullopt;  // one-sided: dark behind
+    if (prim.kind() != ShapeKind::Sphere)
+        pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
+    if (!(pdf_solid_angle > 0.0f) || !std::isfinite(pdf_solid_angle)) return std::nullopt;
+    return LightSample{light.radiance, wi, pdf_solid_angle, false,
+                       spawn_ray_between(at, {q, q_error, n_q}), prim};
+}
+
+float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& q,
+                             const Vec3& n_q) const {
+    const Vec3 d = q - p;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.0f)) return 0.0f;
+    const float cos_light = glm::dot(n_q, -d / std::sqrt(d2));
+    if (cos_light <= 0.0f && !light.two_sided) return 0.0f;
+    if (light.prim.kind() == ShapeKind::Sphere) {
+        const Sphere& s = scene_.spheres()[light.prim.index()];
+        const Vec3 to_center = s.center - p;
+        const float dc2 = glm::dot(to_center, to_center);
+        const float r2 = s.radius * s.radius;
+        if (dc2 <= r2 * 1.0001f) return area_to_solid_angle_pdf(1.0f / s.area(), d2, cos_light);
+        const float sin2_max = r2 / dc2;
+        return uniform_cone_pdf(sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max))));
+    }
+    return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
+}
+
+float LightSampler::pdf(const Vec3& p, const SurfaceInteraction& light_hit) const {
+    const auto it = light_of_primitive_.find(light_hit.prim.bits);
+    if (it == light_of_primitive_.end()) return 0.0f;
+    const AreaLight& light = scene_.area_lights()[lights_[it->second].index];
+    return choice_probability(it->second) * area_pdf(light, p, light_hit.p, light_hit.n_geo);
+}
+
+}  // namespace lessons

@@ -1,0 +1,82 @@
+// Light sampling for lessons 3 and 4: choose a light, then a point on it, and say how likely
+// that choice was, per unit solid angle as seen from the shading point.
+//
+// Lights: point lights (intensity I, W/sr), emissive surfaces (radiance L_e; quads, triangles
+// and spheres, one-sided unless the material says two-sided), and the uniform environment
+// (the scene's background radiance). A light is chosen with probability proportional to its
+// power; then
+//   quads, triangles: a point uniform by area, p_A = 1 / A, converted to solid angle;
+//   spheres: a direction uniform in the cone the sphere subtends (from inside: by area);
+//   environment: a direction uniform on the sphere, 1 / (4 pi);
+//   point lights: their position (a delta distribution).
+#pragma once
+
+#include "math.h"
+#include "scene.h"
+#include "spawn.h"
+
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+namespace lessons {
+
+// The one conversion of an area density into a solid-angle density (STYLE.md): a patch dA at
+// distance d, tilted by theta_l from the direction back to the shading point, subtends
+// d(omega) = cos(theta_l) dA / d^2, so p_omega = p_A d^2 / |cos(theta_l)|.
+inline float area_to_solid_angle_pdf(float pdf_area, float distance_squared, float cos_light) {
+    const float c = std::fabs(cos_light);
+    return c > 0.0f ? pdf_area * distance_squared / c : 0.0f;
+}
+
+struct LightSample {
+    // Radiance arriving at the shading point from the sampled light point, W/(sr m^2). For a
+    // point light (is_delta), the irradiance it gives a surface facing it, I / d^2, W/m^2.
+    Color radiance;
+    Vec3 wi;          // unit direction from the shading point to the light
+    float pdf;        // solid-angle density of wi, times the probability of choosing the light;
+                      // for a point light: that probability alone
+    bool is_delta;    // a point light: no BSDF sample can ever hit it
+    Ray shadow_ray;   // the segment that must be unoccluded (robustly offset at both ends)
+    std::optional<PrimRef> emitter;  // the primitive the segment ends on, which cannot block it
+};
+
+class LightSampler {
+public:
+    explicit LightSampler(const Scene& scene);
+
+    bool empty() const { return lights_.empty(); }
+    size_t size() const { return lights_.size(); }
+    bool has_point_lights() const { return has_point_lights_; }
+
+    // A light sample for the shading point `at`, from three uniform numbers. None if the
+    // scene has no lights, or the sampled point cannot send light to `at` (e.g. the back of a
+    // one-sided light).
+    std::optional<LightSample> sample(const SurfacePoint& at, float u_choose, const Vec2& u) const;
+
+    // The density sample() has of producing direction wi that reaches the emissive surface
+    // `light_hit` (found by tracing a ray from p): for weighting BSDF samples that hit lights.
+    float pdf(const Vec3& p, const SurfaceInteraction& light_hit) const;
+    // The same for a direction that escapes to the uniform environment.
+    float environment_pdf() const;
+
+private:
+    enum class Kind { Point, Area, Environment };
+    struct Entry {
+        Kind kind;
+        uint32_t index;  // into scene.point_lights() or scene.area_lights()
+    };
+    float choice_probability(size_t light) const;
+    std::optional<LightSample> sample_area(const AreaLight& light, const SurfacePoint& at,
+                                           const Vec2& u) const;
+    float area_pdf(const AreaLight& light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
+
+    const Scene& scene_;
+    std::vector<Entry> lights_;
+    std::vector<float> cdf_;  // cumulative choice probabilities, cdf_.back() == 1
+    std::unordered_map<uint32_t, size_t> light_of_primitive_;
+    std::optional<size_t> environment_;
+    bool has_point_lights_ = false;
+};
+
+}  // namespace lessons

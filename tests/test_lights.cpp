@@ -1,0 +1,217 @@
+// Light sampling: each light's directions against the density that MIS will use (chi-square),
+// irradiance against closed forms, one-sidedness, and choice by power.
+#include "lights.h"
+#include "sampling.h"
+#include "statistics.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+using namespace lessons;
+
+namespace {
+
+const double kSignificance = test::sidak(0.01, 60);
+
+uint32_t add_emitter(Scene& scene, const Color& radiance, bool two_sided = false) {
+    Material m;
+    m.name = "lamp";
+    m.emission = radiance;
+    m.two_sided = two_sided;
+    return scene.add_material(m);
+}
+
+// Chi-square test of the light sampler's directions from point p against sampler.pdf(), the
+// density found by tracing each direction to the light (or to the environment).
+test::Chi2Result check_light_directions(const Scene& scene, const Vec3& p, uint64_t seed) {
+    const LightSampler sampler(scene);
+    Rng rng(seed);
+    const SurfacePoint at{p, Vec3(0.0f), Vec3(0, 0, 1)};
+    return test::chi2_test_directions(
+        [&](Vec3& w) {
+            const auto s = sampler.sample(at, rng.uniform(), {rng.uniform(), rng.uniform()});
+            if (!s) return false;
+            w = s->wi;
+            return true;
+        },
+        [&](const Vec3& w) -> double {
+            const Ray ray{p, w};
+            const std::optional<Hit> hit = scene.intersect(ray);
+            if (!hit) return sampler.environment_pdf();
+            return sampler.pdf(p, scene.interaction(ray, *hit));
+        },
+        1000000, kSignificance, 40, 80);
+}
+
+// Irradiance at a point facing n, estimated by light sampling: the mean of L cos / pdf.
+test::MeanAndError irradiance_by_light_sampling(const Scene& scene, const Vec3& p, const Vec3& n,
+                                                int samples, uint64_t seed) {
+    const LightSampler sampler(scene);
+    Rng rng(seed);
+    const SurfacePoint at{p, Vec3(0.0f), n};
+    std::vector<double> values;
+    for (int i = 0; i < samples; ++i) {
+        const auto s = sampler.sample(at, rng.uniform(), {rng.uniform(), rng.uniform()});
+        double v = 0.0;
+        if (s && !scene.occluded(s->shadow_ray, s->emitter))
+            v = luminance(s->radiance) * std::max(0.0f, glm::dot(n, s->wi)) / s->pdf;
+        values.push_back(v);
+    }
+    return test::mean_and_error(values);
+}
+
+// Lambert's formula for the irradiance from a uniform polygonal emitter of radiance L
+// (Arvo 1995, eq. 3.3): E = (L / 2) sum_k Theta_k (Gamma_k . n), with Theta_k the angle the
+// k-th edge subtends at p and Gamma_k the unit normal of the plane through p and that edge.
+double lambert_polygon_irradiance(const std::vector<glm::dvec3>& vertices, const glm::dvec3& p,
+                                  const glm::dvec3& n, double L) {
+    double sum = 0.0;
+    for (size_t k = 0; k < vertices.size(); ++k) {
+        const glm::dvec3 a = glm::normalize(vertices[k] - p);
+        const glm::dvec3 b = glm::normalize(vertices[(k + 1) % vertices.size()] - p);
+        const double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+        sum += theta * glm::dot(glm::normalize(glm::cross(a, b)), n);
+    }
+    return 0.5 * L * std::fabs(sum);
+}
+
+}  // namespace
+
+TEST(Lights, QuadLightDirectionsMatchTheirDensity) {
+    Scene scene;
+    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0.3f, 2)), add_emitter(scene, Color(5)));
+    scene.commit();
+    for (const Vec3& p : {Vec3(0.2f, 0, 0.1f), Vec3(-3, -2, 1)}) {
+        const auto r = check_light_directions(scene, p, 1);
+        EXPECT_TRUE(r.passed) << r.report;
+        EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3) << r.report;
+    }
+}
+
+TEST(Lights, TriangleLightDirectionsMatchTheirDensity) {
+    Scene scene;
+    const uint32_t m = add_emitter(scene, Color(5), true);
+    scene.add_mesh({Vec3(-1, 1, -1), Vec3(1.5f, 1.2f, -0.5f), Vec3(0, 0.8f, 1.5f)}, {}, {},
+                   {{{0, 1, 2}, m, false}});
+    scene.commit();
+    const auto r = check_light_directions(scene, Vec3(0, 0, 0), 2);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3) << r.report;
+}
+
+TEST(Lights, SphereLightDirectionsMatchTheirDensityNearAndFar) {
+    for (float distance : {1.3f, 4.0f, 40.0f}) {
+        Scene scene;
+        scene.add_sphere({Vec3(0, distance, 0), 1.0f}, add_emitter(scene, Color(2)));
+        scene.commit();
+        const auto r = check_light_directions(scene, Vec3(0), 3);
+        EXPECT_TRUE(r.passed) << "distance " << distance << ": " << r.report;
+        EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3) << distance;
+    }
+}
+
+TEST(Lights, EnvironmentDirectionsMatchTheirDensity) {
+    Scene scene;
+    scene.background = Color(0.5f);
+    scene.commit();
+    const auto r = check_light_directions(scene, Vec3(0), 4);
+    EXPECT_TRUE(r.passed) << r.report;
+    EXPECT_NEAR(r.pdf_integral, 1.0, 1e-3);
+}
+
+TEST(Lights, QuadLightIrradianceMatchesLambertsPolygonFormula) {
+    Scene scene;
+    const float L = 3.0f;
+    const Vec3 corner(-0.5f, 2, -0.3f), eu(1.2f, 0, 0.2f), ev(0.1f, -0.2f, 0.9f);
+    scene.add_quad(Quad(corner, eu, ev), add_emitter(scene, Color(L)));  // faces down
+    scene.commit();
+    ASSERT_LT(scene.quads()[0].normal.y, 0.0f);
+    for (const Vec3& n : {Vec3(0, 1, 0), glm::normalize(Vec3(0.5f, 1, 0.2f))}) {
+        const glm::dvec3 c(corner), u(eu), v(ev);
+        const double expected = lambert_polygon_irradiance({c, c + u, c + u + v, c + v},
+                                                           glm::dvec3(0.0), glm::dvec3(n), L);
+        const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), n, 200000, 5);
+        EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se) << "expected " << expected;
+    }
+}
+
+TEST(Lights, SphereLightIrradianceIsPiLTimesRSquaredOverDSquared) {
+    // Configuration factor of a sphere above the horizon (Howell's catalogue): F = (R / d)^2,
+    // so E = pi L (R / d)^2 on a surface facing it.
+    for (float d : {1.5f, 3.0f, 30.0f}) {
+        Scene scene;
+        const float R = 1.0f, L = 2.0f;
+        scene.add_sphere({Vec3(0, d, 0), R}, add_emitter(scene, Color(L)));
+        scene.commit();
+        const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), Vec3(0, 1, 0), 200000, 6);
+        const double expected = kPi * L * (R / d) * (R / d);
+        EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se + 1e-6 * expected) << d;
+    }
+}
+
+TEST(Lights, EnvironmentAndPointLightIrradiance) {
+    Scene scene;
+    scene.background = Color(0.7f);
+    scene.add_point_light({Vec3(1, 2, 0), Color(10.0f)});
+    scene.commit();
+    // E = pi L_env (the unoccluded sky) + I cos / d^2 (the point light).
+    const Vec3 to_light(1, 2, 0);
+    const double expected = kPi * 0.7 + 10.0 * (2.0 / std::sqrt(5.0)) / 5.0;
+    const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), Vec3(0, 1, 0), 400000, 7);
+    EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se);
+}
+
+TEST(Lights, OneSidedLightsAreDarkBehindAndTwoSidedAreNot) {
+    for (bool two_sided : {false, true}) {
+        Scene scene;
+        // Faces +y (cross((0,0,1),(1,0,0)) = +y); the shading point is below it.
+        scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(0, 0, 2), Vec3(2, 0, 0)),
+                       add_emitter(scene, Color(1.0f), two_sided));
+        scene.commit();
+        const LightSampler sampler(scene);
+        Rng rng(8);
+        int produced = 0;
+        for (int i = 0; i < 1000; ++i)
+            produced += sampler.sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, rng.uniform(),
+                                       {rng.uniform(), rng.uniform()})
+                            .has_value();
+        EXPECT_EQ(produced, two_sided ? 1000 : 0);
+    }
+}
+
+TEST(Lights, LightsAreChosenInProportionToTheirPower) {
+    Scene scene;
+    scene.add_point_light({Vec3(0, 1, 0), Color(1.0f)});
+    scene.add_point_light({Vec3(0, 2, 0), Color(3.0f)});
+    scene.commit();
+    const LightSampler sampler(scene);
+    Rng rng(9);
+    const int n = 100000;
+    int second = 0;
+    for (int i = 0; i < n; ++i) {
+        const auto s = sampler.sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, rng.uniform(), {0.5f, 0.5f});
+        ASSERT_TRUE(s);
+        EXPECT_TRUE(s->is_delta);
+        second += s->wi.y > 0.0f && s->radiance.x == 3.0f / 4.0f;
+        EXPECT_FLOAT_EQ(s->pdf, s->radiance.x == 3.0f / 4.0f ? 0.75f : 0.25f);
+    }
+    EXPECT_NEAR(second, 0.75 * n, 5 * std::sqrt(n * 0.75 * 0.25));
+}
+
+TEST(Lights, SamplesAreFiniteAtTheEndsOfTheUnitSquare) {
+    Scene scene;
+    scene.add_sphere({Vec3(0, 1e4f, 0), 1.0f}, add_emitter(scene, Color(1e6f)));  // tiny, far
+    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)), add_emitter(scene, Color(1), true));
+    scene.background = Color(0.1f);
+    scene.commit();
+    const LightSampler sampler(scene);
+    const float ends[] = {0.0f, 0.5f, 0x1.fffffep-1f};
+    for (float c : ends)
+        for (float a : ends)
+            for (float b : ends) {
+                const auto s = sampler.sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, c, {a, b});
+                if (!s) continue;
+                EXPECT_TRUE(is_finite(s->radiance) && is_finite(s->wi) && std::isfinite(s->pdf));
+                EXPECT_GT(s->pdf, 0.0f);
+            }
+}
