@@ -1,10 +1,10 @@
 // Light selection by power, and sampling each kind of light (see lights.h).
 #include "lights.h"
 
-#include "sampling.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "sampling.h"
 
 namespace lessons {
 
@@ -79,15 +79,20 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
             const float d2 = glm::dot(d, d);
             if (!(d2 > 0.0f)) return std::nullopt;
             // Irradiance from a point source facing it: E = I / d^2.
-            s = LightSample{l.intensity / d2, d / std::sqrt(d2), 1.0f, true,
-                            spawn_ray_to(at, l.position), std::nullopt};
+            s = LightSample{l.intensity / d2,
+                            d / std::sqrt(d2),
+                            std::sqrt(d2),
+                            1.0f,
+                            true,
+                            spawn_ray_to(at, l.position),
+                            std::nullopt};
             break;
         }
         case Kind::Area: s = sample_area(scene_.area_lights()[e.index], at, u); break;
         case Kind::Environment: {
             const Vec3 wi = sample_uniform_sphere(u);
-            s = LightSample{scene_.background, wi, uniform_sphere_pdf(), false, spawn_ray(at, wi),
-                            std::nullopt};
+            s = LightSample{scene_.background, wi,          kInfinity, uniform_sphere_pdf(), false,
+                            spawn_ray(at, wi), std::nullopt};
             break;
         }
     }
@@ -117,11 +122,13 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
             // The sphere subtends a cone of half-angle theta_max, sin(theta_max) = r / d. Pick a
             // direction uniformly in it, then the point where it first meets the sphere: seen
             // from the center, at angle alpha from the axis, with
-            //   cos(alpha) = sin^2(theta) / sin(theta_max) + cos(theta) sqrt(1 - sin^2(theta) / sin^2(theta_max)).
+            //   cos(alpha) = sin^2(theta) / sin(theta_max) + cos(theta) sqrt(1 - sin^2(theta) /
+            //   sin^2(theta_max)).
             const float sin2_max = r2 / d2;
             const float sin_max = std::sqrt(sin2_max);
             // 1 - cos(theta_max) without cancellation for small cones.
-            const float one_minus_cos_max = sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
+            const float one_minus_cos_max =
+                sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
             const float one_minus_cos = u.x * one_minus_cos_max;
             const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
             const float cos_theta = 1.0f - one_minus_cos;
@@ -164,8 +171,13 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
     if (prim.kind() != ShapeKind::Sphere)
         pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
     if (!(pdf_solid_angle > 0.0f) || !std::isfinite(pdf_solid_angle)) return std::nullopt;
-    return LightSample{light.radiance, wi, pdf_solid_angle, false,
-                       spawn_ray_between(at, {q, q_error, n_q}), prim};
+    return LightSample{light.radiance,
+                       wi,
+                       distance,
+                       pdf_solid_angle,
+                       false,
+                       spawn_ray_between(at, {q, q_error, n_q}),
+                       prim};
 }
 
 float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& q,

@@ -11,13 +11,13 @@
 //   point lights: their position (a delta distribution).
 #pragma once
 
-#include "math.h"
-#include "scene.h"
-#include "spawn.h"
-
 #include <optional>
 #include <unordered_map>
 #include <vector>
+
+#include "math.h"
+#include "scene.h"
+#include "spawn.h"
 
 namespace lessons {
 
@@ -33,11 +33,12 @@ struct LightSample {
     // Radiance arriving at the shading point from the sampled light point, W/(sr m^2). For a
     // point light (is_delta), the irradiance it gives a surface facing it, I / d^2, W/m^2.
     Color radiance;
-    Vec3 wi;          // unit direction from the shading point to the light
-    float pdf;        // solid-angle density of wi, times the probability of choosing the light;
-                      // for a point light: that probability alone
-    bool is_delta;    // a point light: no BSDF sample can ever hit it
-    Ray shadow_ray;   // the segment that must be unoccluded (robustly offset at both ends)
+    Vec3 wi;         // unit direction from the shading point to the light
+    float distance;  // to the sampled point; infinite for the environment
+    float pdf;       // solid-angle density of wi, times the probability of choosing the light;
+                     // for a point light: that probability alone
+    bool is_delta;   // a point light: no BSDF sample can ever hit it
+    Ray shadow_ray;  // the segment that must be unoccluded (robustly offset at both ends)
     std::optional<PrimRef> emitter;  // the primitive the segment ends on, which cannot block it
 };
 

@@ -10,11 +10,11 @@
 namespace lessons {
 
 enum class MaterialType {
-    Diffuse,  // Lambertian: albedo
+    Diffuse,    // Lambertian: albedo
     Glossy,     // albedo (diffuse base) + a Blinn-Phong glossy lobe: specular and roughness
     Conductor,  // rough metal (GGX microfacets): specular = reflectance at normal incidence
-    Mirror,   // perfect specular reflection: reflectance
-    Glass,    // smooth dielectric: index of refraction
+    Mirror,     // perfect specular reflection: reflectance
+    Glass,      // smooth dielectric: index of refraction
 };
 
 inline const char* material_type_name(MaterialType t) {

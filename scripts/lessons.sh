@@ -22,6 +22,15 @@ render() {  # render LESSON SCENE [extra flags...]
 for scene in cornell_box cornell_spheres whitted_1979; do
     render 01_ray_casting "$scene"
     render 02_whitted "$scene"
+    render 03_reflection_equation "$scene"
 done
+# Lesson 3's estimators side by side, at equal sample count.
+for estimator in uniform cosine brdf light mis; do
+    "$BUILD/bin/03_reflection_equation" --scene scenes/veach_mis.toml --estimator "$estimator" \
+        --out "$OUT/03_reflection_equation_veach_mis_$estimator" \
+        --report "$OUT/03_reflection_equation_veach_mis_$estimator.json" --quiet
+    echo "lessons: $OUT/03_reflection_equation_veach_mis_$estimator.png"
+done
+render 03_reflection_equation quad_light_plane
 
 echo "lessons: done; images, EXRs and reports are in $OUT"

@@ -2,14 +2,14 @@
 // test of a sampling routine against its density, and the z-test of a mean.
 #pragma once
 
-#include "math.h"
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "math.h"
 
 namespace lessons::test {
 
@@ -44,10 +44,14 @@ inline double gamma_q(double a, double x) {
 }
 
 // p-value of a chi-square statistic with `dof` degrees of freedom.
-inline double chi2_p_value(double chi2, int dof) { return gamma_q(0.5 * dof, 0.5 * chi2); }
+inline double chi2_p_value(double chi2, int dof) {
+    return gamma_q(0.5 * dof, 0.5 * chi2);
+}
 
 // Significance per test, Sidak-corrected so that `tests` tests together keep level `alpha`.
-inline double sidak(double alpha, int tests) { return 1.0 - std::pow(1.0 - alpha, 1.0 / tests); }
+inline double sidak(double alpha, int tests) {
+    return 1.0 - std::pow(1.0 - alpha, 1.0 / tests);
+}
 
 // Adaptive Simpson integration of f over [a, b].
 inline double adaptive_simpson(const std::function<double(double)>& f, double a, double b,
@@ -84,8 +88,8 @@ struct Chi2Result {
 // `sample` returns false when the sampler produced no direction (that probability mass is the
 // difference between 1 and the density's integral).
 inline Chi2Result chi2_test_directions(const std::function<bool(Vec3&)>& sample,
-                                       const std::function<double(const Vec3&)>& pdf,
-                                       int samples, double significance, int cos_cells = 20,
+                                       const std::function<double(const Vec3&)>& pdf, int samples,
+                                       double significance, int cos_cells = 20,
                                        int phi_cells = 40) {
     auto dir = [](double cos_theta, double phi) {
         const double s = std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
@@ -135,7 +139,8 @@ inline Chi2Result chi2_test_directions(const std::function<bool(Vec3&)>& sample,
     // Pool cells with small expected counts (sorted ascending) until the pool expects >= 5.
     std::vector<size_t> order(observed.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return expected[a] < expected[b]; });
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return expected[a] < expected[b]; });
     double chi2 = 0.0, pool_expected = 0.0, pool_observed = 0.0;
     int dof = -1, pooled = 0;
     for (size_t i : order) {
@@ -152,7 +157,8 @@ inline Chi2Result chi2_test_directions(const std::function<bool(Vec3&)>& sample,
             pool_observed += observed[i];
             ++pooled;
             if (pool_expected >= 5.0) {
-                chi2 += (pool_observed - pool_expected) * (pool_observed - pool_expected) / pool_expected;
+                chi2 += (pool_observed - pool_expected) * (pool_observed - pool_expected) /
+                        pool_expected;
                 ++dof;
                 pool_expected = pool_observed = 0.0;
             }

@@ -1,13 +1,13 @@
 // BSDFs, in the order Mitsuba tests them: values against closed forms, sampling against the
 // density (chi-square), energy conservation, reciprocity (ACCURACY.md).
+#include <gtest/gtest.h>
+
 #include "bsdf.h"
 #include "microfacet.h"
 #include "optics.h"
 #include "rng.h"
 #include "statistics.h"
 #include "test_util.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -20,7 +20,9 @@ Vec3 direction_at(float theta_degrees) {
     return {std::sin(t), 0.0f, std::cos(t)};
 }
 
-Bsdf local(const BsdfLobe& lobe) { return Bsdf(lobe, Vec3(0, 0, 1), Vec3(0, 0, 1)); }
+Bsdf local(const BsdfLobe& lobe) {
+    return Bsdf(lobe, Vec3(0, 0, 1), Vec3(0, 0, 1));
+}
 
 struct NamedLobe {
     std::string name;
@@ -31,8 +33,10 @@ struct NamedLobe {
 std::vector<NamedLobe> non_delta_lobes() {
     return {
         {"lambertian", Lambertian{Color(0.5f, 0.7f, 0.9f)}, 20, 40},
-        {"glossy e=20", GlossyBlinnPhong{Color(0.3f), Color(0.6f), blinn_phong_exponent(0.3f)}, 40, 80},
-        {"glossy e=198", GlossyBlinnPhong{Color(0.1f), Color(0.8f), blinn_phong_exponent(0.1f)}, 80, 160},
+        {"glossy e=20", GlossyBlinnPhong{Color(0.3f), Color(0.6f), blinn_phong_exponent(0.3f)}, 40,
+         80},
+        {"glossy e=198", GlossyBlinnPhong{Color(0.1f), Color(0.8f), blinn_phong_exponent(0.1f)}, 80,
+         160},
         {"ggx 0.1", GgxConductor{Color(0.9f, 0.6f, 0.3f), 0.1f}, 80, 160},
         {"ggx 0.3", GgxConductor{Color(0.9f, 0.6f, 0.3f), 0.3f}, 40, 80},
         {"ggx 0.7", GgxConductor{Color(0.9f, 0.6f, 0.3f), 0.7f}, 20, 40},
@@ -64,7 +68,8 @@ TEST(Bsdf, EverySamplerMatchesItsDensity) {
             EXPECT_TRUE(r.passed) << l.name << " at " << theta << " degrees: " << r.report;
             // The density integrates to the probability that sample() produces a direction.
             const double fraction = static_cast<double>(produced) / n;
-            EXPECT_NEAR(r.pdf_integral, fraction, 2e-3 + 4 * std::sqrt(fraction * (1 - fraction) / n))
+            EXPECT_NEAR(r.pdf_integral, fraction,
+                        2e-3 + 4 * std::sqrt(fraction * (1 - fraction) / n))
                 << l.name << " at " << theta;
         }
     }
@@ -93,7 +98,8 @@ TEST(Bsdf, DirectionalAlbedoNeverExceedsOneAndLambertIsExact) {
 
 TEST(Bsdf, GgxAlbedoAtNormalIncidenceMatchesTheReferenceValues) {
     // Single scattering, F = 1: 0.988 (alpha 0.1), 0.916 (0.25), 0.688 (0.5), 0.307 (1.0).
-    const std::pair<float, double> cases[] = {{0.1f, 0.988}, {0.25f, 0.916}, {0.5f, 0.688}, {1.0f, 0.307}};
+    const std::pair<float, double> cases[] = {
+        {0.1f, 0.988}, {0.25f, 0.916}, {0.5f, 0.688}, {1.0f, 0.307}};
     for (const auto& [alpha, expected] : cases) {
         const Bsdf bsdf = local(GgxConductor{Color(1.0f), alpha});
         Rng rng(8);
@@ -208,7 +214,8 @@ TEST(Bsdf, ShadingFromBehindAndNoLightThroughTheGeometricSurface) {
     // the same side of the true surface.
     const Bsdf bsdf(Lambertian{Color(0.5f)}, glm::normalize(Vec3(0.3f, 0, 1)), Vec3(0, 0, 1));
     const Vec3 wo(0, 0, 1);
-    const Vec3 below = glm::normalize(Vec3(1, 0, -0.1f));  // above the shading plane, below the surface
+    const Vec3 below =
+        glm::normalize(Vec3(1, 0, -0.1f));  // above the shading plane, below the surface
     EXPECT_EQ(bsdf.eval(wo, below), Color(0.0f));
     EXPECT_EQ(bsdf.pdf(wo, below), 0.0f);
 }

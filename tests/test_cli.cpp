@@ -1,6 +1,7 @@
 // End to end: the lesson executables on the shipped scenes, and on bad input.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -23,12 +24,16 @@ struct RunResult {
 };
 
 RunResult run(const std::string& args) {
-    const fs::path log = fs::temp_directory_path() / "lessons_cli_test.log";
+    // One log per call and process: ctest runs tests in parallel.
+    static int calls = 0;
+    const fs::path log = fs::temp_directory_path() / ("lessons_cli_" + std::to_string(getpid()) +
+                                                      "_" + std::to_string(++calls) + ".log");
     const std::string command = args + " > " + log.string() + " 2>&1";
     const int status = std::system(command.c_str());
     std::ifstream in(log);
     std::stringstream text;
     text << in.rdbuf();
+    fs::remove(log);
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
 }
 
@@ -69,10 +74,11 @@ TEST_P(LessonOnScene, RendersWritesImagesAndAReportWithNoNaN) {
         EXPECT_NE(report.find(field), std::string::npos) << field << " in\n" << report;
 }
 
-INSTANTIATE_TEST_SUITE_P(ShippedScenes, LessonOnScene,
-                         ::testing::Combine(::testing::Values("01_ray_casting", "02_whitted"),
-                                            ::testing::Values("cornell_box", "whitted_1979",
-                                                              "cornell_spheres")));
+INSTANTIATE_TEST_SUITE_P(
+    ShippedScenes, LessonOnScene,
+    ::testing::Combine(::testing::Values("01_ray_casting", "02_whitted", "03_reflection_equation"),
+                       ::testing::Values("cornell_box", "whitted_1979", "cornell_spheres",
+                                         "veach_mis", "quad_light_plane")));
 
 TEST(Cli, BadSceneExitsWithTwoAndOneLineAndWritesNothing) {
     const fs::path dir = fresh_dir("bad");
@@ -93,6 +99,15 @@ TEST(Cli, WhittedFlagsAreCheckedAndDocumented) {
     const RunResult help = run(kBin + "/02_whitted --help");
     for (const char* flag : {"--max-depth", "--min-attenuation", "--fresnel", "--ambient"})
         EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
+}
+
+TEST(Cli, ReflectionEquationFlagsAreCheckedAndDocumented) {
+    EXPECT_EQ(run(kBin + "/03_reflection_equation --estimator stratified").exit_code, 2);
+    EXPECT_EQ(run(kBin + "/03_reflection_equation --mis-heuristic max").exit_code, 2);
+    const RunResult help = run(kBin + "/03_reflection_equation --help");
+    for (const char* word :
+         {"--estimator", "uniform", "cosine", "brdf", "light", "mis", "--mis-heuristic"})
+        EXPECT_NE(help.output.find(word), std::string::npos) << word;
 }
 
 TEST(Cli, BadFlagsExitWithTwo) {

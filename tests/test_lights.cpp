@@ -1,11 +1,11 @@
 // Light sampling: each light's directions against the density that MIS will use (chi-square),
 // irradiance against closed forms, one-sidedness, and choice by power.
+#include <gtest/gtest.h>
+
 #include "lights.h"
 #include "sampling.h"
 #include "statistics.h"
 #include "test_util.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -79,7 +79,8 @@ double lambert_polygon_irradiance(const std::vector<glm::dvec3>& vertices, const
 
 TEST(Lights, QuadLightDirectionsMatchTheirDensity) {
     Scene scene;
-    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0.3f, 2)), add_emitter(scene, Color(5)));
+    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0.3f, 2)),
+                   add_emitter(scene, Color(5)));
     scene.commit();
     for (const Vec3& p : {Vec3(0.2f, 0, 0.1f), Vec3(-3, -2, 1)}) {
         const auto r = check_light_directions(scene, p, 1);
@@ -131,7 +132,8 @@ TEST(Lights, QuadLightIrradianceMatchesLambertsPolygonFormula) {
         const double expected = lambert_polygon_irradiance({c, c + u, c + u + v, c + v},
                                                            glm::dvec3(0.0), glm::dvec3(n), L);
         const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), n, 200000, 5);
-        EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se) << "expected " << expected;
+        EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se)
+            << "expected " << expected;
     }
 }
 
@@ -143,7 +145,8 @@ TEST(Lights, SphereLightIrradianceIsPiLTimesRSquaredOverDSquared) {
         const float R = 1.0f, L = 2.0f;
         scene.add_sphere({Vec3(0, d, 0), R}, add_emitter(scene, Color(L)));
         scene.commit();
-        const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), Vec3(0, 1, 0), 200000, 6);
+        const auto [mean, se] =
+            irradiance_by_light_sampling(scene, Vec3(0), Vec3(0, 1, 0), 200000, 6);
         const double expected = kPi * L * (R / d) * (R / d);
         EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se + 1e-6 * expected) << d;
     }
@@ -172,8 +175,9 @@ TEST(Lights, OneSidedLightsAreDarkBehindAndTwoSidedAreNot) {
         Rng rng(8);
         int produced = 0;
         for (int i = 0; i < 1000; ++i)
-            produced += sampler.sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, rng.uniform(),
-                                       {rng.uniform(), rng.uniform()})
+            produced += sampler
+                            .sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, rng.uniform(),
+                                    {rng.uniform(), rng.uniform()})
                             .has_value();
         EXPECT_EQ(produced, two_sided ? 1000 : 0);
     }
@@ -189,7 +193,8 @@ TEST(Lights, LightsAreChosenInProportionToTheirPower) {
     const int n = 100000;
     int second = 0;
     for (int i = 0; i < n; ++i) {
-        const auto s = sampler.sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, rng.uniform(), {0.5f, 0.5f});
+        const auto s =
+            sampler.sample({Vec3(0), Vec3(0.0f), Vec3(0, 1, 0)}, rng.uniform(), {0.5f, 0.5f});
         ASSERT_TRUE(s);
         EXPECT_TRUE(s->is_delta);
         second += s->wi.y > 0.0f && s->radiance.x == 3.0f / 4.0f;
@@ -201,7 +206,8 @@ TEST(Lights, LightsAreChosenInProportionToTheirPower) {
 TEST(Lights, SamplesAreFiniteAtTheEndsOfTheUnitSquare) {
     Scene scene;
     scene.add_sphere({Vec3(0, 1e4f, 0), 1.0f}, add_emitter(scene, Color(1e6f)));  // tiny, far
-    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)), add_emitter(scene, Color(1), true));
+    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)),
+                   add_emitter(scene, Color(1), true));
     scene.background = Color(0.1f);
     scene.commit();
     const LightSampler sampler(scene);

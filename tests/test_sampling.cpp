@@ -1,10 +1,10 @@
 // Every sampling routine against its density: chi-square tests (ACCURACY.md), and finite
 // outputs at the ends of [0, 1).
+#include <gtest/gtest.h>
+
 #include "rng.h"
 #include "sampling.h"
 #include "statistics.h"
-
-#include <gtest/gtest.h>
 
 using namespace lessons;
 
@@ -107,7 +107,8 @@ TEST(Sampling, MisHeuristicsSumToOne) {
         for (float b : {0.0f, 0.3f, 2.0f, 1e30f}) {
             if (a + b == 0.0f) continue;
             EXPECT_NEAR(balance_heuristic(a, b) + balance_heuristic(b, a), 1.0f, 1e-6f);
-            EXPECT_NEAR(power_heuristic(a, b) + power_heuristic(b, a), 1.0f, 1e-6f) << a << " " << b;
+            EXPECT_NEAR(power_heuristic(a, b) + power_heuristic(b, a), 1.0f, 1e-6f)
+                << a << " " << b;
         }
 }
 

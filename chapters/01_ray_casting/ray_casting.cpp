@@ -105,8 +105,8 @@ std::vector<std::string> local_material_notes(const Scene& scene) {
                             "absorbs nothing); no refraction, no reflection");
         if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
             notes.push_back("material '" + m.name + "' (" + material_type_name(m.type) +
-                            ", roughness " +
-                            std::to_string(m.roughness) + "): Blinn-Phong highlight, exponent " +
+                            ", roughness " + std::to_string(m.roughness) +
+                            "): Blinn-Phong highlight, exponent " +
                             std::to_string(blinn_phong_exponent(m.roughness)) +
                             "; no glossy reflection of other surfaces");
     }

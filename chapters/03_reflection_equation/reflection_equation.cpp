@@ -1,0 +1,161 @@
+// Lesson 3: the reflection equation by Monte Carlo (see reflection_equation.h).
+#include "reflection_equation.h"
+
+#include "bsdf.h"
+#include "input_error.h"
+#include "sampling.h"
+
+namespace lessons {
+
+namespace {
+
+// What a ray leaving the surface sees: the emitted radiance L_e of the first surface it hits,
+// or the environment's if it escapes. For MIS, also the density with which light sampling
+// would have chosen the same direction.
+struct Incident {
+    Color radiance{0.0f};
+    float light_pdf = 0.0f;
+};
+
+Incident emitted_along(const Scene& scene, const LightSampler& lights, const Vec3& p,
+                       const Ray& ray) {
+    const std::optional<Hit> hit = scene.intersect(ray);
+    if (!hit) return {scene.background, lights.environment_pdf()};
+    const SurfaceInteraction light_hit = scene.interaction(ray, *hit);
+    const Color Le = scene.emitted(light_hit);
+    if (is_black(Le)) return {};
+    return {Le, lights.pdf(p, light_hit)};
+}
+
+float mis_weight(MisHeuristic h, float pdf_this, float pdf_other) {
+    return h == MisHeuristic::Power ? power_heuristic(pdf_this, pdf_other)
+                                    : balance_heuristic(pdf_this, pdf_other);
+}
+
+}  // namespace
+
+Estimator parse_estimator(const std::string& name) {
+    if (name == "uniform") return Estimator::Uniform;
+    if (name == "cosine") return Estimator::Cosine;
+    if (name == "brdf") return Estimator::Brdf;
+    if (name == "light") return Estimator::Light;
+    if (name == "mis") return Estimator::Mis;
+    throw InputError("command line", 0, "--estimator",
+                     "unknown estimator '" + name + "' (known: uniform, cosine, brdf, light, mis)");
+}
+
+const char* estimator_name(Estimator e) {
+    switch (e) {
+        case Estimator::Uniform: return "uniform";
+        case Estimator::Cosine: return "cosine";
+        case Estimator::Brdf: return "brdf";
+        case Estimator::Light: return "light";
+        case Estimator::Mis: return "mis";
+    }
+    return "?";
+}
+
+Color reflection_equation(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
+                          const ReflectionOptions& options) {
+    const std::optional<Hit> hit = scene.intersect(ray);
+    if (!hit) return scene.background;
+    const SurfaceInteraction si = scene.interaction(ray, *hit);
+    const Bsdf bsdf(scene.material(si.material), si);
+    const SurfacePoint at = si.surface_point();
+    const Vec3& wo = si.wo;
+
+    // L_o = L_e + ...
+    Color L = scene.emitted(si);
+
+    // f L_i cos / p for a direction wi drawn with density pdf (same for every hemisphere rule).
+    auto brdf_sample_term = [&](const Vec3& wi, const Color& f, float pdf, bool weight_by_mis) {
+        if (!(pdf > 0.0f) || is_black(f)) return Color(0.0f);
+        const Incident in = emitted_along(scene, lights, si.p, spawn_ray(at, wi));
+        if (is_black(in.radiance)) return Color(0.0f);
+        const float w = weight_by_mis ? mis_weight(options.heuristic, pdf, in.light_pdf) : 1.0f;
+        return w * f * in.radiance * bsdf.abs_cos(wi) / pdf;
+    };
+
+    // A mirror or smooth glass reflects from one direction only: the integral collapses to that
+    // direction, which only the BSDF can give (no light sample can ever land on it).
+    if (bsdf.is_delta()) {
+        if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))
+            L += brdf_sample_term(s->wi, s->f, s->pdf, false);
+        return L;
+    }
+
+    switch (options.estimator) {
+        case Estimator::Uniform:
+        case Estimator::Cosine: {
+            const Frame frame(bsdf.normal());
+            const Vec2 u(rng.uniform(), rng.uniform());
+            const bool uniform = options.estimator == Estimator::Uniform;
+            const Vec3 local = uniform ? sample_uniform_hemisphere(u) : sample_cosine_hemisphere(u);
+            const float pdf = uniform ? uniform_hemisphere_pdf() : cosine_hemisphere_pdf(local.z);
+            const Vec3 wi = frame.to_world(local);
+            L += brdf_sample_term(wi, bsdf.eval(wo, wi), pdf, false);
+            break;
+        }
+        case Estimator::Brdf: {
+            if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))
+                L += brdf_sample_term(s->wi, s->f, s->pdf, false);
+            break;
+        }
+        case Estimator::Light:
+        case Estimator::Mis: {
+            const bool mis = options.estimator == Estimator::Mis;
+            // Light sample: f L cos / p_light, weighted against the BSDF's density for wi.
+            const float u_choose = rng.uniform();
+            const Vec2 u_light(rng.uniform(), rng.uniform());
+            if (const auto ls = lights.sample(at, u_choose, u_light)) {
+                const Color f = bsdf.eval(wo, ls->wi);
+                if (!is_black(f) && !scene.occluded(ls->shadow_ray, ls->emitter)) {
+                    const float w = (mis && !ls->is_delta) ? mis_weight(options.heuristic, ls->pdf,
+                                                                        bsdf.pdf(wo, ls->wi))
+                                                           : 1.0f;
+                    L += w * f * ls->radiance * bsdf.abs_cos(ls->wi) / ls->pdf;
+                }
+            }
+            // BSDF sample, weighted against the light sampler's density for the same direction.
+            if (mis)
+                if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))
+                    L += brdf_sample_term(s->wi, s->f, s->pdf, true);
+            break;
+        }
+    }
+    return L;
+}
+
+Model make_reflection_model(const Scene& scene, const LightSampler& lights,
+                            const ReflectionOptions& options) {
+    Model model;
+    model.radiance = [&scene, &lights, options](const Ray& ray, Rng& rng) {
+        return reflection_equation(scene, lights, ray, rng, options);
+    };
+    std::string estimator = std::string("estimator: ") + estimator_name(options.estimator);
+    if (options.estimator == Estimator::Mis)
+        estimator += options.heuristic == MisHeuristic::Power ? " (power heuristic)"
+                                                              : " (balance heuristic)";
+    model.notes.push_back(estimator);
+    model.notes.push_back(
+        "direct illumination only: L_i is what emitters send; light reflected by other surfaces "
+        "(indirect light) is ignored");
+    const bool sees_points =
+        options.estimator == Estimator::Light || options.estimator == Estimator::Mis;
+    if (lights.has_point_lights() && !sees_points)
+        model.notes.push_back(
+            std::string("the scene's point lights are invisible to the ") +
+            estimator_name(options.estimator) +
+            " estimator: a sampled direction never hits a point (use light or mis)");
+    bool delta = false;
+    for (const Material& m : scene.materials())
+        delta |= m.type == MaterialType::Mirror || m.type == MaterialType::Glass;
+    if (delta)
+        model.notes.push_back(
+            "mirror and glass: one BSDF-sampled direction, whatever the estimator (a delta "
+            "BSDF cannot be sampled any other way); they show only emitters");
+    if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
+    return model;
+}
+
+}  // namespace lessons

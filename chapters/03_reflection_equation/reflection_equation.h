@@ -1,0 +1,44 @@
+// Lesson 3: the reflection equation, solved by Monte Carlo integration.
+//
+//   L_o(p, wo) = L_e(p, wo) + integral over the hemisphere of f(p, wo, wi) L_i(p, wi) cos(theta_i)
+//   dwi
+//
+// where L_i is the radiance emitted by whatever the ray from p in direction wi reaches first
+// (an emissive surface, or the environment): direct illumination, one bounce, no recursion.
+// One sample of the integral is f L_i cos(theta_i) / p(wi); the estimators differ only in the
+// density p they draw wi from:
+//   uniform  p = 1 / (2 pi)                 every direction of the hemisphere alike
+//   cosine   p = cos(theta) / pi            more where the cosine is large
+//   brdf     p ~ f cos                      where the BRDF sends light
+//   light    p ~ the light's solid angle    towards the lights (and point lights)
+//   mis      one light and one BRDF sample, each weighted by the heuristic of its densities
+#pragma once
+
+#include <string>
+
+#include "app.h"
+#include "lights.h"
+#include "scene.h"
+
+namespace lessons {
+
+enum class Estimator { Uniform, Cosine, Brdf, Light, Mis };
+enum class MisHeuristic { Balance, Power };
+
+struct ReflectionOptions {
+    Estimator estimator = Estimator::Mis;
+    MisHeuristic heuristic = MisHeuristic::Power;
+};
+
+Estimator parse_estimator(const std::string& name);  // throws InputError
+const char* estimator_name(Estimator e);
+
+// The radiance along a camera ray: emission plus one sample of the reflection equation.
+Color reflection_equation(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
+                          const ReflectionOptions& options);
+
+// The model for the lesson driver; `lights` must outlive it.
+Model make_reflection_model(const Scene& scene, const LightSampler& lights,
+                            const ReflectionOptions& options);
+
+}  // namespace lessons
