@@ -69,9 +69,14 @@ std::string default_out(const Lesson& lesson, const std::string& scene_path) {
 
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings) {
-    Film film(scene.width, scene.height);
+    std::vector<Film> films(1 + model.layer_names.size(), Film(scene.width, scene.height));
+    const Film& film = films[0];
     RenderResult r;
-    r.stats = render(scene.camera, film, settings, model.radiance, 0, spp);
+    if (model.layer_names.empty())
+        r.stats = render(scene.camera, films[0], settings, model.radiance, 0, spp);
+    else
+        r.stats = render_layers(scene.camera, films, settings, model.layered, 0, spp);
+    for (size_t k = 1; k < films.size(); ++k) r.layers.push_back(films[k].mean());
     r.image = film.mean();
     r.variance = film.variance_of_mean();
     r.nan_pixels = film.nan_pixels();
@@ -131,10 +136,29 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
                   << " infinite samples were left out of the average (" << r.nan_pixels << " and "
                   << r.inf_pixels << " pixels)\n";
 
+    // Layers: each one's share of the image's total luminance.
+    std::vector<std::string> layer_shares;
+    double total_luminance = 0.0;
+    for (const Color& c : r.image.pixels) total_luminance += luminance(c);
+    for (size_t k = 0; k < r.layers.size(); ++k) {
+        double layer_luminance = 0.0;
+        for (const Color& c : r.layers[k].pixels) layer_luminance += luminance(c);
+        const double share = total_luminance > 0.0 ? layer_luminance / total_luminance : 0.0;
+        char line[160];
+        std::snprintf(line, sizeof line, "%s: %.2f%% of the image's energy",
+                      model.layer_names[k].c_str(), 100.0 * share);
+        layer_shares.push_back(line);
+        if (!o.quiet) std::cerr << "  " << line << "\n";
+    }
+
     int status = 0;
     try {
         write_exr(r.image, o.out + ".exr");
         write_png(r.image, o.out + ".png", o.exposure);
+        for (size_t k = 0; k < r.layers.size(); ++k) {
+            write_exr(r.layers[k], o.out + "_" + model.layer_names[k] + ".exr");
+            write_png(r.layers[k], o.out + "_" + model.layer_names[k] + ".png", o.exposure);
+        }
     } catch (const std::exception& e) {
         std::cerr << lesson.name << ": error: " << e.what() << "\n";
         status = 1;
@@ -158,6 +182,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         report.set("inf_samples", r.inf_samples);
         report.set("image", o.out + ".exr");
         report.set("notes", model.notes);
+        if (!layer_shares.empty()) report.set("layers", layer_shares);
         try {
             report.write(o.report);
         } catch (const std::exception& e) {

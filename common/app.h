@@ -18,6 +18,10 @@ namespace lessons {
 // A lesson's illumination model, made for one scene.
 struct Model {
     RadianceFn radiance;
+    // Optional: the same model splitting its radiance into named layers, each written as an
+    // image <out>_<name> with its share of the total printed (used when layer_names is set).
+    LayeredRadianceFn layered;
+    std::vector<std::string> layer_names;
     // One line per thing the model approximates or ignores in this scene, printed before the
     // render and stored in the report.
     std::vector<std::string> notes;
@@ -53,6 +57,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson);
 // Render one scene with a model, as run_lesson does, without the command line (for tests).
 struct RenderResult {
     Image image;
+    std::vector<Image> layers;
     Image variance;
     RenderStats stats;
     int nan_pixels = 0, inf_pixels = 0;

@@ -25,8 +25,18 @@ int resolve_thread_count(int requested) {
 
 RenderStats render(const Camera& camera, Film& film, const RenderSettings& settings,
                    const RadianceFn& radiance, int sample_begin, int sample_end) {
+    return render_layers(
+        camera, std::span<Film>(&film, 1), settings,
+        [&](const Ray& ray, Rng& rng, std::span<Color>) { return radiance(ray, rng); },
+        sample_begin, sample_end);
+}
+
+RenderStats render_layers(const Camera& camera, std::span<Film> films,
+                          const RenderSettings& settings, const LayeredRadianceFn& radiance,
+                          int sample_begin, int sample_end) {
     const auto start = std::chrono::steady_clock::now();
-    const int width = film.width(), height = film.height();
+    const int width = films[0].width(), height = films[0].height();
+    const size_t layer_count = films.size() - 1;
     const int tiles_x = (width + kTileSize - 1) / kTileSize;
     const int tiles_y = (height + kTileSize - 1) / kTileSize;
     const int tile_count = tiles_x * tiles_y;
@@ -40,6 +50,7 @@ RenderStats render(const Camera& camera, Film& film, const RenderSettings& setti
     std::mutex failure_mutex;
     auto worker = [&]() {
         const uint64_t rays_before = rays_traced_by_this_thread();
+        std::vector<Color> layers(layer_count);
         try {
             for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
                 const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
@@ -53,7 +64,10 @@ RenderStats render(const Camera& camera, Film& film, const RenderSettings& setti
                             const float jx = settings.jitter ? rng.uniform() : 0.5f;
                             const float jy = settings.jitter ? rng.uniform() : 0.5f;
                             const Ray ray = camera.generate_ray(x + jx, y + jy, width, height);
-                            film.add_sample(pixel, radiance(ray, rng));
+                            std::fill(layers.begin(), layers.end(), Color(0.0f));
+                            films[0].add_sample(pixel, radiance(ray, rng, layers));
+                            for (size_t k = 0; k < layer_count; ++k)
+                                films[1 + k].add_sample(pixel, layers[k]);
                         }
                     }
                 }

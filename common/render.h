@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 
 #include "camera.h"
 #include "film.h"
@@ -19,6 +20,9 @@ namespace lessons {
 // A lesson's illumination model: the radiance arriving at the camera along a primary ray.
 // Random numbers, if the model needs any, come from `rng`.
 using RadianceFn = std::function<Color(const Ray& ray, Rng& rng)>;
+// A model that also splits its answer into layers (e.g. light by number of bounces): it returns
+// the radiance and adds each layer's share into `layers` (zeroed before each call).
+using LayeredRadianceFn = std::function<Color(const Ray& ray, Rng& rng, std::span<Color> layers)>;
 
 struct RenderSettings {
     int threads = 0;  // 0: one per hardware thread
@@ -35,6 +39,10 @@ struct RenderStats {
 // Adds samples [sample_begin, sample_end) of every pixel to the film.
 RenderStats render(const Camera& camera, Film& film, const RenderSettings& settings,
                    const RadianceFn& radiance, int sample_begin, int sample_end);
+// The same with layers: films[0] receives the radiance, films[1 + k] layer k.
+RenderStats render_layers(const Camera& camera, std::span<Film> films,
+                          const RenderSettings& settings, const LayeredRadianceFn& radiance,
+                          int sample_begin, int sample_end);
 
 int resolve_thread_count(int requested);
 

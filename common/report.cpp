@@ -63,8 +63,12 @@ void Report::set(const std::string& key, bool value) {
 }
 void Report::set(const std::string& key, const std::vector<std::string>& values) {
     std::string json = "[";
-    for (size_t i = 0; i < values.size(); ++i) json += (i ? ", " : "") + json_quote(values[i]);
-    put(key, json + "]");
+    for (size_t i = 0; i < values.size(); ++i) {
+        if (i > 0) json.append(", ");
+        json.append(json_quote(values[i]));
+    }
+    json.append("]");
+    put(key, json);
 }
 
 std::string Report::to_json() const {

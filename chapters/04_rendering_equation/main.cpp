@@ -1,0 +1,41 @@
+// Lesson 4: the rendering equation by path tracing. The model is in rendering_equation.cpp.
+#include <CLI/CLI.hpp>
+#include <memory>
+
+#include "rendering_equation.h"
+
+int main(int argc, char** argv) {
+    using namespace lessons;
+    PathOptions options;
+    bool plain = false;
+    std::unique_ptr<LightSampler> lights;
+    Lesson lesson;
+    lesson.name = "04_rendering_equation";
+    lesson.description =
+        "Lesson 4, the rendering equation: global illumination by Monte Carlo path tracing";
+    lesson.default_spp = 64;
+    lesson.add_options = [&](CLI::App& app) {
+        app.add_flag("--plain", plain,
+                     "Plain estimator: BSDF sampling only, no next-event estimation or MIS");
+        app.add_option("--max-depth", options.max_depth,
+                       "Longest path in segments (1: emitters seen directly, 2: plus direct "
+                       "light, ...); 0: unlimited")
+            ->check(CLI::Range(0, 100000))
+            ->capture_default_str();
+        app.add_option("--roulette-after", options.roulette_after,
+                       "Bounces before Russian roulette may end a path; -1: never")
+            ->check(CLI::Range(-1, 100000))
+            ->capture_default_str();
+        app.add_option("--bounces", options.bounce_layers,
+                       "Also write the light of each bounce count 0 .. N-1 (E, KE, K^2E, ...) "
+                       "and of N or more as images PREFIX_bounceK, and print each one's share")
+            ->check(CLI::Range(0, 64))
+            ->capture_default_str();
+    };
+    lesson.make_model = [&](const Scene& scene) {
+        options.next_event = !plain;
+        lights = std::make_unique<LightSampler>(scene);
+        return make_path_tracing_model(scene, *lights, options);
+    };
+    return run_lesson(argc, argv, lesson);
+}

@@ -1,0 +1,122 @@
+// Lesson 4: path tracing the rendering equation (see rendering_equation.h).
+#include "rendering_equation.h"
+
+#include <algorithm>
+
+#include "bsdf.h"
+#include "sampling.h"
+
+namespace lessons {
+
+Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& camera_ray, Rng& rng,
+                 const PathOptions& options, std::span<Color> bounces) {
+    Color L(0.0f);
+    // Adds light that has bounced `k` times: to the total, and to its layer.
+    auto add = [&](int k, const Color& contribution) {
+        L += contribution;
+        if (!bounces.empty()) bounces[std::min<size_t>(k, bounces.size() - 1)] += contribution;
+    };
+
+    Color beta(1.0f);  // path throughput: product of f cos / p along the path so far
+    Ray ray = camera_ray;
+    bool specular = true;  // the last direction came from a delta BSDF (or the camera)
+    float last_bsdf_pdf = 0.0f;
+    Vec3 last_p(0.0f);
+    for (int bounce = 0;; ++bounce) {
+        const int segments = bounce + 1;  // this ray is the path's segment number `segments`
+        const std::optional<Hit> hit = scene.intersect(ray);
+
+        // E: emission found by this ray. Weighted against light sampling when NEE could have
+        // found the same light from the previous vertex (its BSDF was not a delta).
+        const bool weigh = options.next_event && !specular;
+        if (!hit) {
+            const float w = weigh ? power_heuristic(last_bsdf_pdf, lights.environment_pdf()) : 1.0f;
+            if (!is_black(scene.background)) add(bounce, w * beta * scene.background);
+            break;
+        }
+        const SurfaceInteraction si = scene.interaction(ray, *hit);
+        const Color Le = scene.emitted(si);
+        if (!is_black(Le)) {
+            const float w = weigh ? power_heuristic(last_bsdf_pdf, lights.pdf(last_p, si)) : 1.0f;
+            add(bounce, w * beta * Le);
+        }
+        if (options.max_depth > 0 && segments >= options.max_depth) break;
+        if (segments >= kLongestPath) break;
+
+        const Bsdf bsdf(scene.material(si.material), si);
+        const SurfacePoint at = si.surface_point();
+
+        // Next-event estimation: f L cos / p_light towards a sampled light, weighted against
+        // the BSDF's density for the same direction. It is light that bounces once more.
+        const bool nee_allowed = options.max_depth == 0 || segments + 1 <= options.max_depth;
+        if (options.next_event && !bsdf.is_delta() && nee_allowed) {
+            const float u_choose = rng.uniform();
+            const Vec2 u_light(rng.uniform(), rng.uniform());
+            if (const auto ls = lights.sample(at, u_choose, u_light)) {
+                const Color f = bsdf.eval(si.wo, ls->wi);
+                if (!is_black(f) && !scene.occluded(ls->shadow_ray, ls->emitter)) {
+                    const float w =
+                        ls->is_delta ? 1.0f : power_heuristic(ls->pdf, bsdf.pdf(si.wo, ls->wi));
+                    add(bounce + 1, w * beta * f * ls->radiance * bsdf.abs_cos(ls->wi) / ls->pdf);
+                }
+            }
+        }
+
+        // Continue the path: wi from the BSDF, beta *= f cos / p.
+        const std::optional<BsdfSample> s = bsdf.sample(si.wo, {rng.uniform(), rng.uniform()});
+        if (!s) break;
+        beta *= s->f * bsdf.abs_cos(s->wi) / s->pdf;
+        if (is_black(beta) || !is_finite(beta)) break;
+        specular = s->is_delta;
+        last_bsdf_pdf = s->pdf;
+        last_p = si.p;
+
+        // Russian roulette: continue with probability q = min(1, max beta); survivors carry
+        // beta / q, so the expected contribution is unchanged (q beta / q = beta).
+        if (options.roulette_after >= 0 && bounce >= options.roulette_after) {
+            const float q = std::min(1.0f, max_component(beta));
+            if (rng.uniform() >= q) break;
+            beta /= q;
+        }
+        ray = spawn_ray(at, s->wi);
+    }
+    return L;
+}
+
+Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
+                              const PathOptions& options) {
+    Model model;
+    model.radiance = [&scene, &lights, options](const Ray& ray, Rng& rng) {
+        return path_trace(scene, lights, ray, rng, options);
+    };
+    if (options.bounce_layers > 0) {
+        for (int k = 0; k < options.bounce_layers; ++k)
+            model.layer_names.push_back("bounce" + std::to_string(k));
+        model.layer_names.push_back("bounce" + std::to_string(options.bounce_layers) + "plus");
+        model.layered = [&scene, &lights, options](const Ray& ray, Rng& rng,
+                                                   std::span<Color> layers) {
+            return path_trace(scene, lights, ray, rng, options, layers);
+        };
+    }
+    model.notes.push_back(options.next_event
+                              ? "estimator: next-event estimation with BSDF sampling, combined by "
+                                "MIS (power heuristic)"
+                              : "estimator: plain path tracing, BSDF sampling only (no next-event "
+                                "estimation)");
+    if (!options.next_event && lights.has_point_lights())
+        model.notes.push_back(
+            "the scene's point lights are invisible without next-event "
+            "estimation: a sampled direction never hits a point");
+    model.notes.push_back(options.max_depth > 0
+                              ? "paths end after " + std::to_string(options.max_depth) +
+                                    " segments (biased: later bounces are missing)"
+                              : "no depth limit (a safety cut at " + std::to_string(kLongestPath) +
+                                    " segments ends paths trapped by total internal reflection)");
+    if (options.roulette_after >= 0)
+        model.notes.push_back("Russian roulette after " + std::to_string(options.roulette_after) +
+                              " bounces (unbiased)");
+    if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
+    return model;
+}
+
+}  // namespace lessons

@@ -1,0 +1,47 @@
+// Lesson 4: the rendering equation, by Monte Carlo path tracing.
+//
+//   L_o(p, wo) = L_e(p, wo) + integral over the hemisphere of L_i(p, wi) f(p, wo, wi) cos(theta_i)
+//   dwi
+//
+// with L_i(p, wi) = L_o(p', -wi), the outgoing radiance of the surface p' that the ray from p
+// meets first. In operator form L = E + K L, whose solution is the series
+//   L = E + K E + K^2 E + K^3 E + ...
+// (emission, direct light, light after one indirect bounce, ...). A path tracer estimates the
+// whole series with one random path per sample: at each vertex it adds the emission it sees,
+// weighted by the path's throughput beta (the product of f cos / p so far), samples a new
+// direction from the BSDF, and continues.
+//
+// Next-event estimation (NEE) adds, at each vertex, a light sample towards a light; emitters
+// then found by BSDF-sampled rays are weighted by multiple importance sampling, so no light is
+// counted twice. Russian roulette ends paths at random once their throughput is small, dividing
+// the survivors by their survival probability, which keeps the estimate unbiased.
+#pragma once
+
+#include "app.h"
+#include "lights.h"
+#include "scene.h"
+
+namespace lessons {
+
+// Paths longer than this are cut even without a depth limit: a path trapped by total internal
+// reflection keeps throughput 1, so Russian roulette alone would never end it.
+inline constexpr int kLongestPath = 1000;
+
+struct PathOptions {
+    bool next_event = true;  // false: the plain estimator, BSDF sampling only
+    int max_depth = 0;       // 0: unlimited; else at most this many path segments (depth 1:
+                             // emitters seen directly; depth 2 adds direct light; ...)
+    int roulette_after = 3;  // bounces before Russian roulette may end a path; < 0: never
+    int bounce_layers = 0;   // record bounces 0 .. N-1 as separate layers, plus the rest
+};
+
+// The radiance along a camera ray: one path sample. If `bounces` is not empty, the
+// contribution of light that has bounced k times is also added to bounces[k] (the last entry
+// collects everything beyond).
+Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
+                 const PathOptions& options, std::span<Color> bounces = {});
+
+Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
+                              const PathOptions& options);
+
+}  // namespace lessons
