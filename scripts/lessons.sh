@@ -32,5 +32,14 @@ for estimator in uniform cosine brdf light mis; do
     echo "lessons: $OUT/03_reflection_equation_veach_mis_$estimator.png"
 done
 render 03_reflection_equation quad_light_plane
+# Lesson 4: global illumination, with the series L = E + KE + K^2E + ... split by bounce.
+render 04_rendering_equation cornell_box --bounces 4
+render 04_rendering_equation cornell_spheres
+render 04_rendering_equation furnace --bounces 4
+render 04_rendering_equation sky
+"$BUILD/bin/04_rendering_equation" --scene scenes/cornell_box.toml --plain \
+    --out "$OUT/04_rendering_equation_cornell_box_plain" \
+    --report "$OUT/04_rendering_equation_cornell_box_plain.json" --quiet
+echo "lessons: $OUT/04_rendering_equation_cornell_box_plain.png"
 
 echo "lessons: done; images, EXRs and reports are in $OUT"
