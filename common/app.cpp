@@ -41,6 +41,18 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
         ->check(CLI::Range(-30.0, 30.0))
         ->capture_default_str();
     app.add_flag("--quiet", o.quiet, "No progress output");
+    app.add_option("--reference", o.reference,
+                   "An EXR of the same size to measure the error against: mse, rmse, relmse, mae "
+                   "(printed and reported), and efficiency 1 / (mse x seconds)");
+    app.add_option("--time", o.time_budget,
+                   "Render whole passes of one sample per pixel until this many seconds of "
+                   "rendering are spent (instead of --spp); the report gives the samples taken")
+        ->check(CLI::Range(1e-3, 1e6));
+    app.add_option("--convergence", o.convergence,
+                   "With --reference: write a CSV of seconds, spp and each error metric after 1, "
+                   "2, 4, 8, ... samples per pixel (the measuring is not counted as time)");
+    app.add_option("--variance", o.variance,
+                   "Write the per-pixel sample variance of the mean as PREFIX.exr");
 }
 
 // Refuses an image whose buffers would not fit in memory, before any work is done.
@@ -86,6 +98,65 @@ RenderResult render_scene(const Scene& scene, const Model& model, int spp,
     return r;
 }
 
+namespace {
+
+RenderResult collect(std::vector<Film>& films, const RenderStats& stats) {
+    RenderResult r;
+    const Film& film = films[0];
+    r.stats = stats;
+    r.image = film.mean();
+    r.variance = film.variance_of_mean();
+    r.nan_pixels = film.nan_pixels();
+    r.inf_pixels = film.inf_pixels();
+    r.nan_samples = film.nan_samples();
+    r.inf_samples = film.inf_samples();
+    for (size_t k = 1; k < films.size(); ++k) r.layers.push_back(films[k].mean());
+    return r;
+}
+
+}  // namespace
+
+RenderResult render_progressive(const Scene& scene, const Model& model, const ProgressivePlan& plan,
+                                const RenderSettings& settings, int* spp_taken) {
+    std::vector<Film> films(1 + model.layer_names.size(), Film(scene.width, scene.height));
+    auto pass = [&](int begin, int end, const RenderSettings& s) {
+        if (model.layer_names.empty())
+            return render(scene.camera, films[0], s, model.radiance, begin, end);
+        return render_layers(scene.camera, films, s, model.layered, begin, end);
+    };
+    const bool checkpoints = plan.reference && plan.on_checkpoint;
+    RenderStats total;
+    int done = 0;
+    if (plan.time_budget <= 0.0 && !checkpoints) {
+        total = pass(0, plan.spp, settings);  // one call: pixel by pixel, all samples at once
+        done = plan.spp;
+    } else {
+        RenderSettings quiet = settings;
+        quiet.progress = false;
+        int next_checkpoint = 1;
+        for (;;) {
+            // Whole passes: up to the next checkpoint, or one at a time against a clock.
+            const int target =
+                plan.time_budget > 0.0 ? done + 1 : std::min(plan.spp, next_checkpoint);
+            const RenderStats s = pass(done, target, quiet);
+            total.seconds += s.seconds;
+            total.rays += s.rays;
+            done = target;
+            const bool finished =
+                plan.time_budget > 0.0 ? total.seconds >= plan.time_budget : done >= plan.spp;
+            if (checkpoints && (done == next_checkpoint || finished)) {
+                // Outside the timed render calls: the bookkeeping does not count as rendering.
+                plan.on_checkpoint(
+                    {done, total.seconds, compare_images(films[0].mean(), *plan.reference)});
+            }
+            while (next_checkpoint <= done) next_checkpoint *= 2;
+            if (finished) break;
+        }
+    }
+    if (spp_taken) *spp_taken = done;
+    return collect(films, total);
+}
+
 int run_lesson(int argc, char** argv, const Lesson& lesson) {
     CLI::App app(lesson.description, lesson.name);
     CommonOptions o;
@@ -104,9 +175,26 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
 
     Scene scene;
     Model model;
+    Image reference;
     try {
         scene = load_scene(o.scene, {o.width, o.height});
         check_memory(scene.width, scene.height);
+        if (!o.convergence.empty() && o.reference.empty())
+            throw InputError("command line", 0, "--convergence",
+                             "needs --reference: the error is measured against it");
+        if (!o.reference.empty()) {
+            try {
+                reference = read_exr(o.reference);
+            } catch (const std::runtime_error& e) {
+                throw InputError("command line", 0, "--reference", e.what());
+            }
+            if (reference.width != scene.width || reference.height != scene.height)
+                throw InputError(o.reference, 0, "--reference",
+                                 "is " + std::to_string(reference.width) + "x" +
+                                     std::to_string(reference.height) + ", the render is " +
+                                     std::to_string(scene.width) + "x" +
+                                     std::to_string(scene.height) + " (use --width/--height)");
+        }
         model = lesson.make_model(scene);
         const std::filesystem::path dir = std::filesystem::path(o.out).parent_path();
         if (!dir.empty()) std::filesystem::create_directories(dir);
@@ -120,8 +208,10 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
 
     if (!o.quiet) {
         std::cerr << lesson.name << ": " << scene.source << ", " << scene.width << "x"
-                  << scene.height << ", " << spp << " spp, " << resolve_thread_count(o.threads)
-                  << " threads\n";
+                  << scene.height << ", "
+                  << (o.time_budget > 0.0 ? std::to_string(o.time_budget) + " s budget"
+                                          : std::to_string(spp) + " spp")
+                  << ", " << resolve_thread_count(o.threads) << " threads\n";
         for (const std::string& note : model.notes) std::cerr << "  note: " << note << "\n";
     }
 
@@ -129,7 +219,21 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     settings.threads = o.threads;
     settings.seed = o.seed;
     settings.progress = !o.quiet;
-    const RenderResult r = render_scene(scene, model, spp, settings);
+    ProgressivePlan plan;
+    plan.spp = spp;
+    plan.time_budget = o.time_budget;
+    std::vector<Checkpoint> checkpoints;
+    if (!o.reference.empty()) {
+        plan.reference = &reference;
+        plan.on_checkpoint = [&](const Checkpoint& c) {
+            checkpoints.push_back(c);
+            if (!o.quiet)
+                std::fprintf(stderr, "  %6d spp %8.2f s   mse %.4g  relmse %.4g\n", c.spp,
+                             c.seconds, c.error.mse, c.error.relmse);
+        };
+    }
+    int spp_taken = spp;
+    const RenderResult r = render_progressive(scene, model, plan, settings, &spp_taken);
 
     if (r.nan_samples + r.inf_samples > 0)
         std::cerr << lesson.name << ": warning: " << r.nan_samples << " NaN and " << r.inf_samples
@@ -151,9 +255,29 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         if (!o.quiet) std::cerr << "  " << line << "\n";
     }
 
+    std::optional<ErrorMetrics> error;
+    if (!o.reference.empty()) {
+        error = compare_images(r.image, reference);
+        if (!o.quiet)
+            std::fprintf(stderr, "%s: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
+                         lesson.name.c_str(), o.reference.c_str(), error->mse, error->rmse,
+                         error->relmse, error->mae);
+    }
+
     int status = 0;
     try {
         write_exr(r.image, o.out + ".exr");
+        if (!o.variance.empty()) write_exr(r.variance, o.variance + ".exr");
+        if (!o.convergence.empty())
+            write_atomically(o.convergence, [&](const std::string& tmp) {
+                std::FILE* f = std::fopen(tmp.c_str(), "w");
+                if (!f) throw std::runtime_error(o.convergence + ": cannot write");
+                std::fprintf(f, "seconds,spp,mse,rmse,relmse,mae\n");
+                for (const Checkpoint& c : checkpoints)
+                    std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", c.seconds, c.spp, c.error.mse,
+                                 c.error.rmse, c.error.relmse, c.error.mae);
+                if (std::fclose(f) != 0) throw std::runtime_error(o.convergence + ": cannot write");
+            });
         write_png(r.image, o.out + ".png", o.exposure);
         for (size_t k = 0; k < r.layers.size(); ++k) {
             write_exr(r.layers[k], o.out + "_" + model.layer_names[k] + ".exr");
@@ -170,7 +294,8 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         report.set("scene", scene.source);
         report.set("width", scene.width);
         report.set("height", scene.height);
-        report.set("spp", spp);
+        report.set("spp", spp_taken);
+        if (o.time_budget > 0.0) report.set("time_budget", o.time_budget);
         report.set("threads", resolve_thread_count(o.threads));
         report.set("seed", o.seed);
         report.set("seconds", r.stats.seconds);
@@ -181,6 +306,17 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         report.set("nan_samples", r.nan_samples);
         report.set("inf_samples", r.inf_samples);
         report.set("image", o.out + ".exr");
+        if (error) {
+            report.set("reference", o.reference);
+            report.set("mse", error->mse);
+            report.set("rmse", error->rmse);
+            report.set("relmse", error->relmse);
+            report.set("mae", error->mae);
+            // 1 / (MSE x seconds): constant for an unbiased estimator (MSE ~ 1 / time).
+            report.set("efficiency", error->mse > 0.0 && r.stats.seconds > 0.0
+                                         ? 1.0 / (error->mse * r.stats.seconds)
+                                         : 0.0);
+        }
         report.set("notes", model.notes);
         if (!layer_shares.empty()) report.set("layers", layer_shares);
         try {

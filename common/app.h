@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "metrics.h"
 #include "render.h"
 #include "scene.h"
 
@@ -47,6 +48,11 @@ struct CommonOptions {
     std::string report;
     float exposure = 0.0f;
     bool quiet = false;
+    // Speed against error (docs/speed-vs-error.md)
+    std::string reference;     // EXR to measure the error against
+    double time_budget = 0.0;  // > 0: render whole passes of 1 spp until this many seconds
+    std::string convergence;   // CSV of error against time at 1, 2, 4, ... spp
+    std::string variance;      // prefix of an EXR of the per-pixel variance of the mean
 };
 
 // Parses the command line, renders, writes <out>.exr, <out>.png and the report.
@@ -65,5 +71,22 @@ struct RenderResult {
 };
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings);
+
+// Progressive rendering: whole passes over the image, so that the error can be measured along
+// the way and a time budget respected. A checkpoint is taken after 1, 2, 4, 8, ... samples per
+// pixel and at the end; its time counts only the rendering, never the checkpoint's own work.
+struct Checkpoint {
+    int spp;
+    double seconds;  // rendering time so far
+    ErrorMetrics error;
+};
+struct ProgressivePlan {
+    int spp = 1;                       // samples per pixel, when there is no time budget
+    double time_budget = 0.0;          // > 0: passes of one sample per pixel until this is spent
+    const Image* reference = nullptr;  // for checkpoints
+    std::function<void(const Checkpoint&)> on_checkpoint;  // called if reference is set
+};
+RenderResult render_progressive(const Scene& scene, const Model& model, const ProgressivePlan& plan,
+                                const RenderSettings& settings, int* spp_taken);
 
 }  // namespace lessons

@@ -1,6 +1,7 @@
 // Image output through tinyexr (linear EXR) and stb_image_write (sRGB PNG).
 #include "image.h"
 
+#include <stb_image.h>
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
@@ -59,6 +60,37 @@ void write_png(const Image& image, const std::string& path, float exposure_stops
             throw std::runtime_error(path + ": cannot write PNG");
         }
     });
+}
+
+float srgb_decode(float v) {
+    if (v <= 0.04045f) return v / 12.92f;
+    return std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+void write_png_bytes(const std::string& path, int width, int height,
+                     const std::vector<uint8_t>& rgb) {
+    write_atomically(path, [&](const std::string& tmp) {
+        if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3)) {
+            std::remove(tmp.c_str());
+            throw std::runtime_error(path + ": cannot write PNG");
+        }
+    });
+}
+
+Image read_image(const std::string& path) {
+    const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    if (ext != ".png" && ext != ".PNG") return read_exr(path);
+    int w = 0, h = 0, channels = 0;
+    unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+    if (!data) {
+        const char* why = stbi_failure_reason();
+        throw std::runtime_error(path + ": cannot read PNG" + (why ? std::string(": ") + why : ""));
+    }
+    Image image(w, h);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) image.pixels[i][c] = srgb_decode(data[3 * i + c] / 255.0f);
+    stbi_image_free(data);
+    return image;
 }
 
 Image read_exr(const std::string& path) {

@@ -1,6 +1,7 @@
 // Linear RGB images, and writing them as linear EXR (radiance) and sRGB PNG (for looking at).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,13 @@ void write_exr(const Image& image, const std::string& path);
 void write_png(const Image& image, const std::string& path, float exposure_stops = 0.0f);
 // Reads an EXR's RGB channels. Throws std::runtime_error naming the file on failure.
 Image read_exr(const std::string& path);
+// Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
+Image read_image(const std::string& path);
+// The inverse of srgb_encode.
+float srgb_decode(float encoded);
+// Writes 8-bit RGB bytes (already display-encoded, e.g. a colour map) as a PNG, atomically.
+void write_png_bytes(const std::string& path, int width, int height,
+                     const std::vector<uint8_t>& rgb);
 
 // Writes a file atomically: `write(tmp)` writes a temporary beside `path`, which is then renamed
 // over it, so a crash or interruption never leaves a half-written file in place of a good one.
