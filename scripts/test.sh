@@ -9,6 +9,8 @@ if [ "${1:-}" = "--quick" ]; then
     CTEST_ARGS+=(--label-exclude slow)
 fi
 
+# The page test opens the lessons page in headless Chromium; the lessons run plots with gnuplot.
+install_missing_packages chromium gnuplot-nox
 build_suite
 cd "$BUILD"
 ctest "${CTEST_ARGS[@]}"
