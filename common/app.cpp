@@ -1,10 +1,13 @@
 // The shared lesson driver: command line, scene, render, outputs, report.
 #include "app.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -127,9 +130,26 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
     const bool checkpoints = plan.reference && plan.on_checkpoint;
     RenderStats total;
     int done = 0;
-    if (plan.time_budget <= 0.0 && !checkpoints) {
+    bool interrupted = false;
+    if (plan.time_budget <= 0.0 && !checkpoints && !settings.stop) {
         total = pass(0, plan.spp, settings);  // one call: pixel by pixel, all samples at once
         done = plan.spp;
+    } else if (plan.time_budget <= 0.0 && !checkpoints) {
+        // Interruptible: doubling batches of whole passes (1, 1, 2, 4, ... spp), so that a stop
+        // loses at most the batch in progress, whose finished tiles still count.
+        int batch = 1;
+        while (done < plan.spp) {
+            const int target = std::min(plan.spp, done + batch);
+            const RenderStats s = pass(done, target, settings);
+            total.seconds += s.seconds;
+            total.rays += s.rays;
+            if (s.stopped) {
+                interrupted = true;
+                break;
+            }
+            done = target;
+            if (done >= batch) batch *= 2;
+        }
     } else {
         RenderSettings quiet = settings;
         quiet.progress = false;
@@ -141,6 +161,10 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
             const RenderStats s = pass(done, target, quiet);
             total.seconds += s.seconds;
             total.rays += s.rays;
+            if (s.stopped) {
+                interrupted = true;
+                break;
+            }
             done = target;
             const bool finished =
                 plan.time_budget > 0.0 ? total.seconds >= plan.time_budget : done >= plan.spp;
@@ -154,8 +178,34 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
         }
     }
     if (spp_taken) *spp_taken = done;
-    return collect(films, total);
+    RenderResult r = collect(films, total);
+    r.interrupted = interrupted;
+    return r;
 }
+
+namespace {
+
+// Ctrl-C (SIGINT) or SIGTERM: the first asks the render to stop after the tiles in progress, so
+// the image so far is written; the second exits at once. Only async-signal-safe calls here.
+std::atomic<bool> g_stop_requested{false};
+
+extern "C" void on_stop_signal(int signal_number) {
+    if (g_stop_requested.exchange(true)) std::_Exit(128 + signal_number);
+    const char message[] =
+        "\ninterrupted: finishing the tiles in progress, then writing the image so far (press "
+        "Ctrl-C again to quit at once)\n";
+    [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, message, sizeof message - 1);
+}
+
+void install_stop_handlers() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
+}  // namespace
 
 int run_lesson(int argc, char** argv, const Lesson& lesson) {
     CLI::App app(lesson.description, lesson.name);
@@ -219,6 +269,8 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     settings.threads = o.threads;
     settings.seed = o.seed;
     settings.progress = !o.quiet;
+    settings.stop = &g_stop_requested;
+    install_stop_handlers();
     ProgressivePlan plan;
     plan.spp = spp;
     plan.time_budget = o.time_budget;
@@ -265,6 +317,11 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     }
 
     int status = 0;
+    if (r.interrupted) {
+        std::cerr << lesson.name << ": interrupted after " << spp_taken
+                  << " complete samples per pixel; writing what was rendered\n";
+        status = 130;  // 128 + SIGINT, as a shell reports an interrupted command
+    }
     try {
         write_exr(r.image, o.out + ".exr");
         if (!o.variance.empty()) write_exr(r.variance, o.variance + ".exr");
@@ -285,7 +342,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         }
     } catch (const std::exception& e) {
         std::cerr << lesson.name << ": error: " << e.what() << "\n";
-        status = 1;
+        if (status == 0) status = 1;
     }
     const double mrays = r.stats.seconds > 0 ? r.stats.rays / r.stats.seconds * 1e-6 : 0.0;
     if (!o.report.empty()) {
@@ -295,6 +352,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         report.set("width", scene.width);
         report.set("height", scene.height);
         report.set("spp", spp_taken);
+        report.set("interrupted", r.interrupted);
         if (o.time_budget > 0.0) report.set("time_budget", o.time_budget);
         report.set("threads", resolve_thread_count(o.threads));
         report.set("seed", o.seed);

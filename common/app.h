@@ -68,6 +68,7 @@ struct RenderResult {
     RenderStats stats;
     int nan_pixels = 0, inf_pixels = 0;
     uint64_t nan_samples = 0, inf_samples = 0;
+    bool interrupted = false;  // stopped by RenderSettings::stop before the planned samples
 };
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings);

@@ -46,6 +46,7 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
     std::atomic<int> next_tile{0};
     std::atomic<uint64_t> rays{0};
 
+    std::atomic<bool> stopped{false};
     std::exception_ptr failure;
     std::mutex failure_mutex;
     auto worker = [&]() {
@@ -53,6 +54,10 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
         std::vector<Color> layers(layer_count);
         try {
             for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
+                if (settings.stop && settings.stop->load(std::memory_order_relaxed)) {
+                    stopped = true;
+                    break;
+                }
                 const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
                 const int x1 = std::min(x0 + kTileSize, width),
                           y1 = std::min(y0 + kTileSize, height);
@@ -93,6 +98,7 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
     RenderStats stats;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats.rays = rays.load();
+    stats.stopped = stopped.load();
     return stats;
 }
 

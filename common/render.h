@@ -6,6 +6,7 @@
 // the same for any number of threads, and for any split of the samples into passes.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -29,11 +30,15 @@ struct RenderSettings {
     uint64_t seed = 0;
     bool jitter = true;    // uniformly jittered position in the pixel; false: the pixel center
     bool progress = true;  // progress on stderr
+    // Set (e.g. by a signal handler) to stop: workers take no new tile, and the render returns
+    // with the tiles in progress finished. Pixels of untouched tiles then lack this pass.
+    const std::atomic<bool>* stop = nullptr;
 };
 
 struct RenderStats {
     double seconds = 0.0;
-    uint64_t rays = 0;  // rays traced (primary, shadow and secondary)
+    uint64_t rays = 0;     // rays traced (primary, shadow and secondary)
+    bool stopped = false;  // settings.stop was set before every tile was done
 };
 
 // Adds samples [sample_begin, sample_end) of every pixel to the film.

@@ -120,6 +120,13 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
         }
     }
     for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
+    // A camera inside a closed shape sees only its inside. That can be meant (the furnace), so
+    // it is a warning, not an error.
+    for (const ShapeDescription& s : d.shapes)
+        if (s.type == ShapeDescription::Type::Sphere &&
+            glm::length(d.camera_position - s.center) < s.radius)
+            std::cerr << "warning: " << s.where.file << ":" << s.where.line << ": " << s.where.field
+                      << ": the camera is inside this sphere; the image shows its inside\n";
     scene.commit();
     return scene;
 }

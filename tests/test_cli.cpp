@@ -127,5 +127,18 @@ TEST(Cli, SameSeedSameImageAcrossThreadCounts) {
                              "/scenes/cornell_box.toml --width 80 --height 60 --spp 3 --quiet ";
     ASSERT_EQ(run(base + "--threads 1 --out " + (dir / "one").string()).exit_code, 0);
     ASSERT_EQ(run(base + "--threads 2 --out " + (dir / "two").string()).exit_code, 0);
+    ASSERT_EQ(run(base + "--threads 3 --out " + (dir / "three").string()).exit_code, 0);
     EXPECT_EQ(read_file(dir / "one.exr"), read_file(dir / "two.exr"));
+    EXPECT_EQ(read_file(dir / "one.exr"), read_file(dir / "three.exr"));
+    // And for a Monte Carlo lesson, whose every sample draws random numbers.
+    const std::string mc =
+        kBin + "/04_rendering_equation --scene " + kSource +
+        "/scenes/cornell_spheres.toml --width 48 --height 48 --spp 4 --quiet --seed 9 ";
+    for (int threads : {1, 2, 3})
+        ASSERT_EQ(run(mc + "--threads " + std::to_string(threads) + " --out " +
+                      (dir / ("mc" + std::to_string(threads))).string())
+                      .exit_code,
+                  0);
+    EXPECT_EQ(read_file(dir / "mc1.exr"), read_file(dir / "mc2.exr"));
+    EXPECT_EQ(read_file(dir / "mc1.exr"), read_file(dir / "mc3.exr"));
 }
