@@ -6,10 +6,12 @@
 #include <tinyexr.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 namespace lessons {
@@ -28,6 +30,13 @@ void rename_into_place(const std::string& tmp, const std::string& path) {
 
 void write_exr(const Image& image, const std::string& path) {
     write_atomically(path, [&](const std::string& tmp) {
+        // Check that the file can be created first: tinyexr 1.0.1 leaks its header buffers when
+        // it cannot open the file, and this message names the reason.
+        if (std::FILE* f = std::fopen(tmp.c_str(), "wb")) {
+            std::fclose(f);
+        } else {
+            throw std::runtime_error(path + ": cannot write EXR: " + std::strerror(errno));
+        }
         const char* err = nullptr;
         const int rc = SaveEXR(reinterpret_cast<const float*>(image.pixels.data()), image.width,
                                image.height, 3, /*save_as_fp16=*/0, tmp.c_str(), &err);

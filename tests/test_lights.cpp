@@ -158,7 +158,6 @@ TEST(Lights, EnvironmentAndPointLightIrradiance) {
     scene.add_point_light({Vec3(1, 2, 0), Color(10.0f)});
     scene.commit();
     // E = pi L_env (the unoccluded sky) + I cos / d^2 (the point light).
-    const Vec3 to_light(1, 2, 0);
     const double expected = kPi * 0.7 + 10.0 * (2.0 / std::sqrt(5.0)) / 5.0;
     const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), Vec3(0, 1, 0), 400000, 7);
     EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se);
