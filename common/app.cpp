@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -56,6 +57,15 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "2, 4, 8, ... samples per pixel (the measuring is not counted as time)");
     app.add_option("--variance", o.variance,
                    "Write the per-pixel sample variance of the mean as PREFIX.exr");
+    app.add_option("--naive", o.naive,
+                   "Use the naive methods the suite replaces, to see them fail: epsilon=E (a "
+                   "fixed ray offset), quadratic (textbook sphere test in float), "
+                   "moller-trumbore (triangles, not watertight); comma-separated")
+        ->delimiter(',');
+    app.add_option("--clamp", o.clamp,
+                   "Clamp each sample's luminance to this value (removes fireflies; biased, and "
+                   "the report says so)")
+        ->check(CLI::PositiveNumber);
 }
 
 // Refuses an image whose buffers would not fit in memory, before any work is done.
@@ -84,21 +94,9 @@ std::string default_out(const Lesson& lesson, const std::string& scene_path) {
 
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings) {
-    std::vector<Film> films(1 + model.layer_names.size(), Film(scene.width, scene.height));
-    const Film& film = films[0];
-    RenderResult r;
-    if (model.layer_names.empty())
-        r.stats = render(scene.camera, films[0], settings, model.radiance, 0, spp);
-    else
-        r.stats = render_layers(scene.camera, films, settings, model.layered, 0, spp);
-    for (size_t k = 1; k < films.size(); ++k) r.layers.push_back(films[k].mean());
-    r.image = film.mean();
-    r.variance = film.variance_of_mean();
-    r.nan_pixels = film.nan_pixels();
-    r.inf_pixels = film.inf_pixels();
-    r.nan_samples = film.nan_samples();
-    r.inf_samples = film.inf_samples();
-    return r;
+    ProgressivePlan plan;
+    plan.spp = spp;
+    return render_progressive(scene, model, plan, settings, nullptr);
 }
 
 namespace {
@@ -113,6 +111,8 @@ RenderResult collect(std::vector<Film>& films, const RenderStats& stats) {
     r.inf_pixels = film.inf_pixels();
     r.nan_samples = film.nan_samples();
     r.inf_samples = film.inf_samples();
+    r.firefly_pixels = film.firefly_pixels();
+    r.clamped_samples = film.clamped_samples();
     for (size_t k = 1; k < films.size(); ++k) r.layers.push_back(films[k].mean());
     return r;
 }
@@ -122,6 +122,7 @@ RenderResult collect(std::vector<Film>& films, const RenderStats& stats) {
 RenderResult render_progressive(const Scene& scene, const Model& model, const ProgressivePlan& plan,
                                 const RenderSettings& settings, int* spp_taken) {
     std::vector<Film> films(1 + model.layer_names.size(), Film(scene.width, scene.height));
+    if (settings.clamp > 0.0f) films[0].set_clamp(settings.clamp);
     auto pass = [&](int begin, int end, const RenderSettings& s) {
         if (model.layer_names.empty())
             return render(scene.camera, films[0], s, model.radiance, begin, end);
@@ -229,6 +230,24 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     try {
         scene = load_scene(o.scene, {o.width, o.height});
         check_memory(scene.width, scene.height);
+        for (const std::string& method : o.naive) {
+            if (method == "quadratic") {
+                scene.naive.textbook_quadratic = true;
+            } else if (method == "moller-trumbore") {
+                scene.naive.moller_trumbore = true;
+            } else if (method.rfind("epsilon=", 0) == 0) {
+                char* end = nullptr;
+                const float e = std::strtof(method.c_str() + 8, &end);
+                if (*end != '\0' || !(e > 0.0f) || !std::isfinite(e))
+                    throw InputError("command line", 0, "--naive",
+                                     "epsilon must be a positive number, got '" + method + "'");
+                scene.naive.fixed_epsilon = e;
+            } else {
+                throw InputError("command line", 0, "--naive",
+                                 "unknown method '" + method +
+                                     "' (known: epsilon=E, quadratic, moller-trumbore)");
+            }
+        }
         if (!o.convergence.empty() && o.reference.empty())
             throw InputError("command line", 0, "--convergence",
                              "needs --reference: the error is measured against it");
@@ -270,6 +289,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     settings.seed = o.seed;
     settings.progress = !o.quiet;
     settings.stop = &g_stop_requested;
+    settings.clamp = o.clamp;
     install_stop_handlers();
     ProgressivePlan plan;
     plan.spp = spp;
@@ -352,6 +372,13 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         report.set("width", scene.width);
         report.set("height", scene.height);
         report.set("spp", spp_taken);
+        report.set("firefly_pixels", r.firefly_pixels);
+        report.set("biased", o.clamp > 0.0f || scene.naive.any());
+        if (o.clamp > 0.0f) {
+            report.set("clamp", static_cast<double>(o.clamp));
+            report.set("clamped_samples", r.clamped_samples);
+        }
+        if (!o.naive.empty()) report.set("naive", o.naive);
         report.set("interrupted", r.interrupted);
         if (o.time_budget > 0.0) report.set("time_budget", o.time_budget);
         report.set("threads", resolve_thread_count(o.threads));

@@ -49,10 +49,12 @@ struct CommonOptions {
     float exposure = 0.0f;
     bool quiet = false;
     // Speed against error (docs/speed-vs-error.md)
-    std::string reference;     // EXR to measure the error against
-    double time_budget = 0.0;  // > 0: render whole passes of 1 spp until this many seconds
-    std::string convergence;   // CSV of error against time at 1, 2, 4, ... spp
-    std::string variance;      // prefix of an EXR of the per-pixel variance of the mean
+    std::string reference;           // EXR to measure the error against
+    double time_budget = 0.0;        // > 0: render whole passes of 1 spp until this many seconds
+    std::string convergence;         // CSV of error against time at 1, 2, 4, ... spp
+    std::string variance;            // prefix of an EXR of the per-pixel variance of the mean
+    std::vector<std::string> naive;  // naive methods to demonstrate (docs/robustness.md)
+    float clamp = 0.0f;              // > 0: clamp sample luminance (biased)
 };
 
 // Parses the command line, renders, writes <out>.exr, <out>.png and the report.
@@ -69,6 +71,8 @@ struct RenderResult {
     int nan_pixels = 0, inf_pixels = 0;
     uint64_t nan_samples = 0, inf_samples = 0;
     bool interrupted = false;  // stopped by RenderSettings::stop before the planned samples
+    int firefly_pixels = 0;
+    uint64_t clamped_samples = 0;
 };
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings);

@@ -183,6 +183,10 @@ Bsdf::Bsdf(const Material& material, const SurfaceInteraction& si)
         frame_ = Frame(-si.n_shading);
         n_geo_ = -si.n_geo;
     }
+    // An interpolated normal can tilt so far that the viewer is below its hemisphere (near the
+    // silhouette of a coarse mesh); every lobe would then be black. Shade with the true surface.
+    if (material.type != MaterialType::Glass && glm::dot(si.wo, frame_.n) <= 0.0f)
+        frame_ = Frame(n_geo_);
 }
 
 bool Bsdf::is_delta() const {

@@ -1,6 +1,7 @@
 // Per-pixel accumulation of radiance samples (see film.h).
 #include "film.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lessons {
@@ -18,7 +19,16 @@ void Film::add_sample(size_t index, const Color& radiance) {
         ++p.inf;
         return;
     }
-    const glm::dvec3 L(radiance);
+    Color value = radiance;
+    float lum = luminance(value);
+    if (clamp_ > 0.0f && lum > clamp_) {
+        value *= clamp_ / lum;
+        lum = clamp_;
+        ++p.clamped;
+    }
+    p.max_luminance = std::max(p.max_luminance, lum);
+    p.sum_luminance += lum;
+    const glm::dvec3 L(value);
     p.sum += L;
     p.sum_squares += L * L;
     ++p.valid;
@@ -45,6 +55,19 @@ Image Film::variance_of_mean() const {
         image.pixels[i] = Color(s2 / n);
     }
     return image;
+}
+
+int Film::firefly_pixels() const {
+    int n = 0;
+    for (const Pixel& p : pixels_)
+        n += p.valid >= 8 && p.sum_luminance > 0.0 && p.max_luminance > 0.5 * p.sum_luminance;
+    return n;
+}
+
+uint64_t Film::clamped_samples() const {
+    uint64_t n = 0;
+    for (const Pixel& p : pixels_) n += p.clamped;
+    return n;
 }
 
 uint64_t Film::nan_samples() const {

@@ -33,6 +33,12 @@ public:
     uint64_t nan_samples() const;
     uint64_t inf_samples() const;
     int nan_pixels() const;  // pixels that received at least one NaN sample
+    // Fireflies: pixels with at least 8 samples where a single sample carries more than half
+    // of the pixel's total luminance (the rare, very bright path the eye sees as a speck).
+    int firefly_pixels() const;
+    // Optional, biased: scale down every sample whose luminance exceeds `max_luminance`.
+    void set_clamp(float max_luminance) { clamp_ = max_luminance; }
+    uint64_t clamped_samples() const;
     int inf_pixels() const;  // pixels that received at least one infinite sample
 
 private:
@@ -42,7 +48,11 @@ private:
         uint32_t valid = 0;
         uint32_t nan = 0;
         uint32_t inf = 0;
+        uint32_t clamped = 0;
+        float max_luminance = 0.0f;  // of a single sample
+        double sum_luminance = 0.0;
     };
+    float clamp_ = 0.0f;
     int width_ = 0, height_ = 0;
     std::vector<Pixel> pixels_;
 };

@@ -33,6 +33,7 @@ struct RenderSettings {
     // Set (e.g. by a signal handler) to stop: workers take no new tile, and the render returns
     // with the tiles in progress finished. Pixels of untouched tiles then lack this pass.
     const std::atomic<bool>* stop = nullptr;
+    float clamp = 0.0f;  // > 0: clamp every sample's luminance to this (biased; Film::set_clamp)
 };
 
 struct RenderStats {

@@ -146,7 +146,8 @@ bool Scene::intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRa
         case ShapeKind::Sphere: {
             Ray r = ray;
             r.t_max = t_max;
-            return intersect_sphere(spheres_[prim.index()], r, hit);
+            return naive.textbook_quadratic ? intersect_sphere_naive(spheres_[prim.index()], r, hit)
+                                            : intersect_sphere(spheres_[prim.index()], r, hit);
         }
         case ShapeKind::Quad: {
             Ray r = ray;
@@ -155,6 +156,12 @@ bool Scene::intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRa
         }
         case ShapeKind::Triangle: {
             const Triangle& t = triangles_[prim.index()];
+            if (naive.moller_trumbore) {
+                Ray r = ray;
+                r.t_max = t_max;
+                return intersect_triangle_moller_trumbore(r, positions_[t.v[0]], positions_[t.v[1]],
+                                                          positions_[t.v[2]], hit);
+            }
             return intersect_triangle(wr, positions_[t.v[0]], positions_[t.v[1]],
                                       positions_[t.v[2]], t_max, hit);
         }
@@ -223,6 +230,11 @@ SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
     SurfaceInteraction si;
     si.p = g.p;
     si.p_error = g.p_error;
+    if (naive.fixed_epsilon > 0.0f) {
+        // The textbook way: the hit at o + t d, moved off by a fixed distance (about epsilon).
+        si.p = ray.at(hit.shape.t);
+        si.p_error = Vec3(naive.fixed_epsilon / 1.5f);
+    }
     si.n_geo = g.n_geo;
     si.n_shading = g.n_shading;
     si.uv = g.uv;

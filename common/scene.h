@@ -80,6 +80,16 @@ struct AreaLight {
     Vec3 normal;        // unit emitting normal (zero for spheres, which emit all around)
 };
 
+// The naive methods that the robust ones replace, kept so their failures can be shown
+// (docs/robustness.md; the --naive flag). All off by default.
+struct NaiveMethods {
+    float fixed_epsilon = 0.0f;       // > 0: spawned rays start this far off the surface, at the
+                                      // point o + t d, instead of beyond its rounding error
+    bool textbook_quadratic = false;  // spheres by b^2 - 4ac in single precision
+    bool moller_trumbore = false;     // triangles by Moller-Trumbore, not watertight
+    bool any() const { return fixed_epsilon > 0.0f || textbook_quadratic || moller_trumbore; }
+};
+
 // Rays traced by the calling thread since it started: the render loop reads the difference.
 uint64_t rays_traced_by_this_thread();
 
@@ -126,6 +136,7 @@ public:
     Camera camera;
     int width = 0, height = 0;
     Color background{0.0f};  // radiance of every ray that escapes the scene
+    NaiveMethods naive;      // for demonstrations only
     std::string source;      // the file it came from, for messages and reports
 
 private:
