@@ -60,21 +60,6 @@ test::MeanAndError irradiance_by_light_sampling(const Scene& scene, const Vec3& 
     return test::mean_and_error(values);
 }
 
-// Lambert's formula for the irradiance from a uniform polygonal emitter of radiance L
-// (Arvo 1995, eq. 3.3): E = (L / 2) sum_k Theta_k (Gamma_k . n), with Theta_k the angle the
-// k-th edge subtends at p and Gamma_k the unit normal of the plane through p and that edge.
-double lambert_polygon_irradiance(const std::vector<glm::dvec3>& vertices, const glm::dvec3& p,
-                                  const glm::dvec3& n, double L) {
-    double sum = 0.0;
-    for (size_t k = 0; k < vertices.size(); ++k) {
-        const glm::dvec3 a = glm::normalize(vertices[k] - p);
-        const glm::dvec3 b = glm::normalize(vertices[(k + 1) % vertices.size()] - p);
-        const double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
-        sum += theta * glm::dot(glm::normalize(glm::cross(a, b)), n);
-    }
-    return 0.5 * L * std::fabs(sum);
-}
-
 }  // namespace
 
 TEST(Lights, QuadLightDirectionsMatchTheirDensity) {
@@ -129,8 +114,8 @@ TEST(Lights, QuadLightIrradianceMatchesLambertsPolygonFormula) {
     ASSERT_LT(scene.quads()[0].normal.y, 0.0f);
     for (const Vec3& n : {Vec3(0, 1, 0), glm::normalize(Vec3(0.5f, 1, 0.2f))}) {
         const glm::dvec3 c(corner), u(eu), v(ev);
-        const double expected = lambert_polygon_irradiance({c, c + u, c + u + v, c + v},
-                                                           glm::dvec3(0.0), glm::dvec3(n), L);
+        const double expected = test::lambert_polygon_irradiance({c, c + u, c + u + v, c + v},
+                                                                 glm::dvec3(0.0), glm::dvec3(n), L);
         const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), n, 200000, 5);
         EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se)
             << "expected " << expected;

@@ -38,18 +38,6 @@ uint32_t add_emitter(Scene& scene, float radiance) {
     return scene.add_material(m);
 }
 
-double lambert_polygon_irradiance(const std::vector<glm::dvec3>& vertices, const glm::dvec3& p,
-                                  const glm::dvec3& n, double L) {
-    double sum = 0.0;
-    for (size_t k = 0; k < vertices.size(); ++k) {
-        const glm::dvec3 a = glm::normalize(vertices[k] - p);
-        const glm::dvec3 b = glm::normalize(vertices[(k + 1) % vertices.size()] - p);
-        sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) *
-               glm::dot(glm::normalize(glm::cross(a, b)), n);
-    }
-    return 0.5 * L * std::fabs(sum);
-}
-
 // A camera ray from above that lands on plane point (x, 0, z).
 Ray ray_to(float x, float z) {
     const Vec3 target(x, 0.0f, z), origin(x + 0.3f, 3.0f, z - 4.0f);
@@ -67,7 +55,7 @@ TEST(ReflectionEquation, EveryEstimatorMatchesLambertsPolygonFormula) {
         {0, 0}, {0.7f, -0.4f}, {1.5f, 1.5f}, {-3, 2}, {4, -4}};
     for (const auto& [x, z] : points) {
         const double expected =
-            rho / kPi * lambert_polygon_irradiance(lamp, {x, 0, z}, {0, 1, 0}, L);
+            rho / kPi * test::lambert_polygon_irradiance(lamp, {x, 0, z}, {0, 1, 0}, L);
         for (Estimator e : kEstimators) {
             const auto [mean, se] = estimate(scene, ray_to(x, z), e, 40000, 1);
             EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se + 1e-6)

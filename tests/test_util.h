@@ -1,7 +1,10 @@
 // Small helpers shared by the tests: random geometry and a scene built in code.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <glm/vec3.hpp>
+#include <vector>
 
 #include "rng.h"
 #include "scene.h"
@@ -60,6 +63,21 @@ inline void add_tessellated_sphere(Scene& scene, const Vec3& center, float radiu
         }
     scene.add_mesh(positions, {}, {}, triangles);
     if (out_vertices) *out_vertices = positions;
+}
+
+// Lambert's formula for the irradiance from a uniform polygonal emitter of radiance L
+// (Arvo 1995, eq. 3.3): E = (L / 2) |sum_k Theta_k (Gamma_k . n)|, with Theta_k the angle the
+// k-th edge subtends at p and Gamma_k the unit normal of the plane through p and that edge.
+inline double lambert_polygon_irradiance(const std::vector<glm::dvec3>& vertices,
+                                         const glm::dvec3& p, const glm::dvec3& n, double L) {
+    double sum = 0.0;
+    for (size_t k = 0; k < vertices.size(); ++k) {
+        const glm::dvec3 a = glm::normalize(vertices[k] - p);
+        const glm::dvec3 b = glm::normalize(vertices[(k + 1) % vertices.size()] - p);
+        sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) *
+               glm::dot(glm::normalize(glm::cross(a, b)), n);
+    }
+    return 0.5 * L * std::fabs(sum);
 }
 
 inline uint32_t add_diffuse(Scene& scene, const Color& albedo) {

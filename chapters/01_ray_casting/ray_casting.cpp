@@ -1,9 +1,11 @@
 // Lesson 1: ray casting (see ray_casting.h for the model's equation).
 #include "ray_casting.h"
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 
+#include "input_error.h"
 #include "spawn.h"
 
 namespace lessons {
@@ -138,6 +140,22 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
     const Vec3 n = si.front_face() ? si.n_shading : -si.n_shading;
     // L = L_e + k_d L_a + sum over lights of f I cos / d^2 V.
     return scene.emitted(si) + m.k_d * options.ambient + direct_local(scene, si, m, n);
+}
+
+void add_ambient_option(CLI::App& app, std::vector<float>& values) {
+    app.add_option("--ambient", values,
+                   "Ambient radiance L_a standing in for indirect light at diffuse hits: one grey "
+                   "value or R G B (default: the scene's background radiance)")
+        ->expected(1, 3)
+        ->check(CLI::NonNegativeNumber);
+}
+
+Color ambient_radiance(const std::vector<float>& values, const Scene& scene) {
+    if (values.size() == 1) return Color(values[0]);
+    if (values.size() == 3) return Color(values[0], values[1], values[2]);
+    if (values.size() == 2)
+        throw InputError("command line", 0, "--ambient", "give one value or three (R G B)");
+    return scene.background;
 }
 
 Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options) {

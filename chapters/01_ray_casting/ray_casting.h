@@ -44,4 +44,9 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
 
 Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options);
 
+// The --ambient flag of the local models (lessons 1 and 2): one grey value or R G B, stored in
+// `values`; ambient_radiance() turns it into L_a, the scene's background radiance by default.
+void add_ambient_option(CLI::App& app, std::vector<float>& values);
+Color ambient_radiance(const std::vector<float>& values, const Scene& scene);
+
 }  // namespace lessons

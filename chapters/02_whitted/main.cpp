@@ -1,7 +1,6 @@
 // Lesson 2: Whitted-style ray tracing. The model is in whitted.cpp; this reads its flags.
 #include <CLI/CLI.hpp>
 
-#include "input_error.h"
 #include "whitted.h"
 
 int main(int argc, char** argv) {
@@ -16,11 +15,7 @@ int main(int argc, char** argv) {
         "refraction at mirrors and glass";
     lesson.default_spp = 4;
     lesson.add_options = [&](CLI::App& app) {
-        app.add_option("--ambient", ambient,
-                       "Ambient radiance L_a at diffuse hits: one grey value or R G B (default: "
-                       "the scene's background radiance)")
-            ->expected(1, 3)
-            ->check(CLI::NonNegativeNumber);
+        add_ambient_option(app, ambient);
         app.add_option("--max-depth", options.max_depth,
                        "Maximum number of specular bounces after the camera ray")
             ->check(CLI::Range(0, 1000))
@@ -34,11 +29,7 @@ int main(int argc, char** argv) {
             ->capture_default_str();
     };
     lesson.make_model = [&](const Scene& scene) {
-        options.ambient = scene.background;
-        if (ambient.size() == 1) options.ambient = Color(ambient[0]);
-        if (ambient.size() == 3) options.ambient = Color(ambient[0], ambient[1], ambient[2]);
-        if (ambient.size() == 2)
-            throw InputError("command line", 0, "--ambient", "give one value or three (R G B)");
+        options.ambient = ambient_radiance(ambient, scene);
         options.schlick = fresnel == "schlick";
         return make_whitted_model(scene, options);
     };
