@@ -14,6 +14,7 @@
 
 #include "image.h"
 #include "input_error.h"
+#include "progress.h"
 #include "report.h"
 #include "scene_file.h"
 
@@ -137,11 +138,16 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
         done = plan.spp;
     } else if (plan.time_budget <= 0.0 && !checkpoints) {
         // Interruptible: doubling batches of whole passes (1, 1, 2, 4, ... spp), so that a stop
-        // loses at most the batch in progress, whose finished tiles still count.
+        // leaves every pixel with at least the samples of the batches done (the finished tiles
+        // of the batch in progress count too). One progress display for all of them.
+        Progress progress("render", static_cast<uint64_t>(scene.width) * scene.height * plan.spp,
+                          settings.progress);
+        RenderSettings batch_settings = settings;
+        batch_settings.shared_progress = &progress;
         int batch = 1;
         while (done < plan.spp) {
             const int target = std::min(plan.spp, done + batch);
-            const RenderStats s = pass(done, target, settings);
+            const RenderStats s = pass(done, target, batch_settings);
             total.seconds += s.seconds;
             total.rays += s.rays;
             if (s.stopped) {
@@ -151,6 +157,7 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
             done = target;
             if (done >= batch) batch *= 2;
         }
+        progress.finish();
     } else {
         RenderSettings quiet = settings;
         quiet.progress = false;

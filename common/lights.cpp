@@ -17,6 +17,12 @@ float power_of(const AreaLight& light) {
     return kPi * luminance(light.radiance) * light.area * sides;
 }
 
+// 1 - cos(theta_max) of the cone a sphere subtends, sin^2(theta_max) = r^2 / d^2, written as
+// sin^2 / (1 + cos) so that small, far spheres keep their precision.
+float cone_one_minus_cos(float sin2_max) {
+    return sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
+}
+
 }  // namespace
 
 LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
@@ -126,9 +132,7 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
             //   sin^2(theta_max)).
             const float sin2_max = r2 / d2;
             const float sin_max = std::sqrt(sin2_max);
-            // 1 - cos(theta_max) without cancellation for small cones.
-            const float one_minus_cos_max =
-                sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
+            const float one_minus_cos_max = cone_one_minus_cos(sin2_max);
             const float one_minus_cos = u.x * one_minus_cos_max;
             const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
             const float cos_theta = 1.0f - one_minus_cos;
@@ -194,7 +198,7 @@ float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& 
         const float r2 = s.radius * s.radius;
         if (dc2 <= r2 * 1.0001f) return area_to_solid_angle_pdf(1.0f / s.area(), d2, cos_light);
         const float sin2_max = r2 / dc2;
-        return uniform_cone_pdf(sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max))));
+        return uniform_cone_pdf(cone_one_minus_cos(sin2_max));
     }
     return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
 }

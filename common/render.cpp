@@ -42,7 +42,9 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
     const int tile_count = tiles_x * tiles_y;
     const int samples = std::max(0, sample_end - sample_begin);
 
-    Progress progress("render", static_cast<uint64_t>(width) * height * samples, settings.progress);
+    Progress own_progress("render", static_cast<uint64_t>(width) * height * samples,
+                          settings.progress && !settings.shared_progress);
+    Progress& progress = settings.shared_progress ? *settings.shared_progress : own_progress;
     std::atomic<int> next_tile{0};
     std::atomic<uint64_t> rays{0};
 
@@ -93,7 +95,7 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
     worker();
     for (std::thread& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
-    progress.finish();
+    if (!settings.shared_progress) progress.finish();
 
     RenderStats stats;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -18,6 +18,8 @@
 
 namespace lessons {
 
+class Progress;
+
 // A lesson's illumination model: the radiance arriving at the camera along a primary ray.
 // Random numbers, if the model needs any, come from `rng`.
 using RadianceFn = std::function<Color(const Ray& ray, Rng& rng)>;
@@ -34,6 +36,8 @@ struct RenderSettings {
     // with the tiles in progress finished. Pixels of untouched tiles then lack this pass.
     const std::atomic<bool>* stop = nullptr;
     float clamp = 0.0f;  // > 0: clamp every sample's luminance to this (biased; Film::set_clamp)
+    // Progress shared by several render calls (passes of one render); else each call has its own.
+    Progress* shared_progress = nullptr;
 };
 
 struct RenderStats {

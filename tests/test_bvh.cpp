@@ -91,10 +91,8 @@ TEST_P(BvhAgainstBruteForce, ClosestAndAnyHitAreExactlyTheBruteForceAnswers) {
         if (expected) {
             ++hits;
             ASSERT_EQ(expected->shape.t, got->shape.t) << "ray " << i;
-            if (!(expected->prim == got->prim)) {
-                // Two primitives at exactly the same distance: either is right.
-                SUCCEED();
-            }
+            // (Two primitives at exactly the same distance may differ in which one is reported;
+            // the distance may not.)
         }
         ASSERT_EQ(scene.occluded(ray), expected.has_value()) << "ray " << i;
     }

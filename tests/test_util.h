@@ -7,15 +7,13 @@
 #include <vector>
 
 #include "rng.h"
+#include "sampling.h"
 #include "scene.h"
 
 namespace lessons::test {
 
 inline Vec3 random_unit_vector(Rng& rng) {
-    const float z = 1.0f - 2.0f * rng.uniform();
-    const float r = std::sqrt(std::fmax(0.0f, 1.0f - z * z));
-    const float phi = 2.0f * kPi * rng.uniform();
-    return {r * std::cos(phi), r * std::sin(phi), z};
+    return sample_uniform_sphere({rng.uniform(), rng.uniform()});
 }
 
 inline Vec3 random_in_box(Rng& rng, float lo, float hi) {

@@ -55,6 +55,22 @@ const char* estimator_name(Estimator e) {
     return "?";
 }
 
+Color light_sample_term(const Scene& scene, const LightSampler& lights,
+                        const SurfaceInteraction& si, const Bsdf& bsdf, Rng& rng, bool mis,
+                        MisHeuristic heuristic) {
+    const float u_choose = rng.uniform();
+    const Vec2 u_light(rng.uniform(), rng.uniform());
+    const std::optional<LightSample> ls = lights.sample(si.surface_point(), u_choose, u_light);
+    if (!ls) return Color(0.0f);
+    const Color f = bsdf.eval(si.wo, ls->wi);
+    if (is_black(f) || scene.occluded(ls->shadow_ray, ls->emitter)) return Color(0.0f);
+    // A point light (delta) cannot be found by BSDF sampling: its sample keeps weight 1.
+    const float w =
+        (mis && !ls->is_delta) ? mis_weight(heuristic, ls->pdf, bsdf.pdf(si.wo, ls->wi)) : 1.0f;
+    // f L cos(theta_i) / p_light: one light sample of the reflection equation.
+    return w * f * ls->radiance * bsdf.abs_cos(ls->wi) / ls->pdf;
+}
+
 Color reflection_equation(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
                           const ReflectionOptions& options) {
     const std::optional<Hit> hit = scene.intersect(ray);
@@ -104,18 +120,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
         case Estimator::Light:
         case Estimator::Mis: {
             const bool mis = options.estimator == Estimator::Mis;
-            // Light sample: f L cos / p_light, weighted against the BSDF's density for wi.
-            const float u_choose = rng.uniform();
-            const Vec2 u_light(rng.uniform(), rng.uniform());
-            if (const auto ls = lights.sample(at, u_choose, u_light)) {
-                const Color f = bsdf.eval(wo, ls->wi);
-                if (!is_black(f) && !scene.occluded(ls->shadow_ray, ls->emitter)) {
-                    const float w = (mis && !ls->is_delta) ? mis_weight(options.heuristic, ls->pdf,
-                                                                        bsdf.pdf(wo, ls->wi))
-                                                           : 1.0f;
-                    L += w * f * ls->radiance * bsdf.abs_cos(ls->wi) / ls->pdf;
-                }
-            }
+            L += light_sample_term(scene, lights, si, bsdf, rng, mis, options.heuristic);
             // BSDF sample, weighted against the light sampler's density for the same direction.
             if (mis)
                 if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))

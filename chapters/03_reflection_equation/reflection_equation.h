@@ -17,6 +17,7 @@
 #include <string>
 
 #include "app.h"
+#include "bsdf.h"
 #include "lights.h"
 #include "scene.h"
 
@@ -32,6 +33,14 @@ struct ReflectionOptions {
 
 Estimator parse_estimator(const std::string& name);  // throws InputError
 const char* estimator_name(Estimator e);
+
+// One light sample of the reflection equation at `si`: f L cos / p_light towards a point chosen
+// by the light sampler, 0 if it is occluded or behind the surface; with `mis`, weighted against
+// the BSDF's density for the same direction. (Lesson 4 calls it at every path vertex: this is
+// next-event estimation.)
+Color light_sample_term(const Scene& scene, const LightSampler& lights,
+                        const SurfaceInteraction& si, const Bsdf& bsdf, Rng& rng, bool mis,
+                        MisHeuristic heuristic);
 
 // The radiance along a camera ray: emission plus one sample of the reflection equation.
 Color reflection_equation(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "bsdf.h"
+#include "reflection_equation.h"
 #include "sampling.h"
 
 namespace lessons {
@@ -46,21 +47,12 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
         const Bsdf bsdf(scene.material(si.material), si);
         const SurfacePoint at = si.surface_point();
 
-        // Next-event estimation: f L cos / p_light towards a sampled light, weighted against
-        // the BSDF's density for the same direction. It is light that bounces once more.
+        // Next-event estimation: lesson 3's light sample at this vertex, f L cos / p_light,
+        // MIS-weighted against the BSDF; it is light that bounces once more.
         const bool nee_allowed = options.max_depth == 0 || segments + 1 <= options.max_depth;
-        if (options.next_event && !bsdf.is_delta() && nee_allowed) {
-            const float u_choose = rng.uniform();
-            const Vec2 u_light(rng.uniform(), rng.uniform());
-            if (const auto ls = lights.sample(at, u_choose, u_light)) {
-                const Color f = bsdf.eval(si.wo, ls->wi);
-                if (!is_black(f) && !scene.occluded(ls->shadow_ray, ls->emitter)) {
-                    const float w =
-                        ls->is_delta ? 1.0f : power_heuristic(ls->pdf, bsdf.pdf(si.wo, ls->wi));
-                    add(bounce + 1, w * beta * f * ls->radiance * bsdf.abs_cos(ls->wi) / ls->pdf);
-                }
-            }
-        }
+        if (options.next_event && !bsdf.is_delta() && nee_allowed)
+            add(bounce + 1,
+                beta * light_sample_term(scene, lights, si, bsdf, rng, true, MisHeuristic::Power));
 
         // Continue the path: wi from the BSDF, beta *= f cos / p.
         const std::optional<BsdfSample> s = bsdf.sample(si.wo, {rng.uniform(), rng.uniform()});
