@@ -61,7 +61,9 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--naive", o.naive,
                    "Use the naive methods the suite replaces, to see them fail: epsilon=E (a "
                    "fixed ray offset), quadratic (textbook sphere test in float), "
-                   "moller-trumbore (triangles, not watertight); comma-separated")
+                   "moller-trumbore (triangles, not watertight), side-by-dot (the side a ray "
+                   "hits from dot(d, n)), shading-normals (no fallback below an interpolated "
+                   "normal), light-cosine (|cos| at one-sided lights); comma-separated")
         ->delimiter(',');
     app.add_option("--clamp", o.clamp,
                    "Clamp each sample's luminance to this value (removes fireflies; biased, and "
@@ -242,6 +244,12 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
                 scene.naive.textbook_quadratic = true;
             } else if (method == "moller-trumbore") {
                 scene.naive.moller_trumbore = true;
+            } else if (method == "side-by-dot") {
+                scene.naive.side_by_dot = true;
+            } else if (method == "shading-normals") {
+                scene.naive.raw_shading_normals = true;
+            } else if (method == "light-cosine") {
+                scene.naive.light_abs_cosine = true;
             } else if (method.rfind("epsilon=", 0) == 0) {
                 char* end = nullptr;
                 const float e = std::strtof(method.c_str() + 8, &end);
@@ -250,9 +258,11 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
                                      "epsilon must be a positive number, got '" + method + "'");
                 scene.naive.fixed_epsilon = e;
             } else {
-                throw InputError("command line", 0, "--naive",
-                                 "unknown method '" + method +
-                                     "' (known: epsilon=E, quadratic, moller-trumbore)");
+                throw InputError(
+                    "command line", 0, "--naive",
+                    "unknown method '" + method +
+                        "' (known: epsilon=E, quadratic, moller-trumbore, side-by-dot, "
+                        "shading-normals, light-cosine)");
             }
         }
         if (!o.convergence.empty() && o.reference.empty())

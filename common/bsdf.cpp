@@ -185,7 +185,8 @@ Bsdf::Bsdf(const Material& material, const SurfaceInteraction& si)
     }
     // An interpolated normal can tilt so far that the viewer is below its hemisphere (near the
     // silhouette of a coarse mesh); every lobe would then be black. Shade with the true surface.
-    if (material.type != MaterialType::Glass && glm::dot(si.wo, frame_.n) <= 0.0f)
+    if (si.shading_fallback && material.type != MaterialType::Glass &&
+        glm::dot(si.wo, frame_.n) <= 0.0f)
         frame_ = Frame(n_geo_);
 }
 

@@ -170,8 +170,9 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
     if (!(d2 > 0.0f)) return std::nullopt;
     const float distance = std::sqrt(d2);
     const Vec3 wi = d / distance;
-    const float cos_light = glm::dot(n_q, -wi);  // > 0: the light's front faces the point
-    if (cos_light <= 0.0f && !light.two_sided) return std::nullopt;  // one-sided: dark behind
+    float cos_light = glm::dot(n_q, -wi);  // > 0: the light's front faces the point
+    if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);  // the textbook slip
+    if (cos_light <= 0.0f && !light.two_sided) return std::nullopt;       // one-sided: dark behind
     if (prim.kind() != ShapeKind::Sphere)
         pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
     if (!(pdf_solid_angle > 0.0f) || !std::isfinite(pdf_solid_angle)) return std::nullopt;
@@ -189,7 +190,8 @@ float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& 
     const Vec3 d = q - p;
     const float d2 = glm::dot(d, d);
     if (!(d2 > 0.0f)) return 0.0f;
-    const float cos_light = glm::dot(n_q, -d / std::sqrt(d2));
+    float cos_light = glm::dot(n_q, -d / std::sqrt(d2));
+    if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);
     if (cos_light <= 0.0f && !light.two_sided) return 0.0f;
     if (light.prim.kind() == ShapeKind::Sphere) {
         const Sphere& s = scene_.spheres()[light.prim.index()];

@@ -243,6 +243,9 @@ SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
     si.material = material_of(hit.prim);
     si.prim = hit.prim;
     si.front = hit.shape.front;
+    // The textbook way: the side from the sign of a dot product, which a grazing ray can flip.
+    if (naive.side_by_dot) si.front = glm::dot(ray.dir, g.n_geo) < 0.0f;
+    si.shading_fallback = !naive.raw_shading_normals;
     return si;
 }
 

@@ -57,6 +57,7 @@ struct SurfaceInteraction {
     uint32_t material;
     PrimRef prim;
     bool front = true;  // the ray arrived on n_geo's side (decided by the intersection test)
+    bool shading_fallback = true;  // false only under --naive shading-normals
 
     bool front_face() const { return front; }
     SurfacePoint surface_point() const { return {p, p_error, n_geo}; }
@@ -83,11 +84,17 @@ struct AreaLight {
 // The naive methods that the robust ones replace, kept so their failures can be shown
 // (docs/robustness.md; the --naive flag). All off by default.
 struct NaiveMethods {
-    float fixed_epsilon = 0.0f;       // > 0: spawned rays start this far off the surface, at the
-                                      // point o + t d, instead of beyond its rounding error
-    bool textbook_quadratic = false;  // spheres by b^2 - 4ac in single precision
-    bool moller_trumbore = false;     // triangles by Moller-Trumbore, not watertight
-    bool any() const { return fixed_epsilon > 0.0f || textbook_quadratic || moller_trumbore; }
+    float fixed_epsilon = 0.0f;        // > 0: spawned rays start this far off the surface, at the
+                                       // point o + t d, instead of beyond its rounding error
+    bool textbook_quadratic = false;   // spheres by b^2 - 4ac in single precision
+    bool moller_trumbore = false;      // triangles by Moller-Trumbore, not watertight
+    bool side_by_dot = false;          // the side a ray hits from dot(d, n), not the hit test
+    bool raw_shading_normals = false;  // no fallback when the viewer is below the shading normal
+    bool light_abs_cosine = false;     // next-event estimation with |cos| at one-sided lights
+    bool any() const {
+        return fixed_epsilon > 0.0f || textbook_quadratic || moller_trumbore || side_by_dot ||
+               raw_shading_normals || light_abs_cosine;
+    }
 };
 
 // Rays traced by the calling thread since it started: the render loop reads the difference.

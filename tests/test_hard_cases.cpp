@@ -3,7 +3,9 @@
 // docs/robustness.md quotes them.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "app.h"
@@ -251,9 +253,53 @@ TEST(HardCases, SmallptSphereWallsRenderLikeQuadWalls) {
            " of 3072 pixels differ by more than 1% (double-precision spheres), " +
            std::to_string(naive) +
            " with the textbook quadratic in float and a fixed epsilon of 1e-4");
-    // The two rooms agree. (The naive figure is recorded, not asserted: in this room the float
-    // quadratic's error, about 0.01 units, stays below what a 1% pixel difference shows.)
+    // The two rooms agree. (The naive pixel figure is recorded, not asserted: in this room the
+    // float quadratic's error, about 0.01 units, stays below what a 1% pixel difference shows.)
     EXPECT_LE(ours, 30);  // the silhouettes of the two spheres on the walls may differ by a pixel
+}
+
+TEST(HardCases, SmallptSphereWallsAreNeverReHitByRaysLeavingThem) {
+    // The room lies outside every wall sphere, so a ray leaving a wall can never meet that wall
+    // again: each re-hit is a self-intersection. smallpt's pipeline (the quadratic, a fixed
+    // epsilon of 1e-4), run in single precision, puts hit points ~0.01 units off a wall of
+    // radius 1e5: far more than its epsilon.
+    Scene scene = load_scene(kScenes + "hard/smallpt_spheres.toml", {64, 48});
+    auto self_hits = [&](int& leaving) {
+        int again = 0;
+        leaving = 0;
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
+                const std::optional<Hit> hit = scene.intersect(ray);
+                if (!hit || hit->prim.kind() != ShapeKind::Sphere ||
+                    scene.spheres()[hit->prim.index()].radius < 1e4f)
+                    continue;
+                const SurfaceInteraction si = scene.interaction(ray, *hit);
+                const Frame frame(si.front_face() ? si.n_geo : -si.n_geo);
+                for (int k = 0; k < 16; ++k) {
+                    Rng rng(5, static_cast<uint32_t>(y * 64 + x), static_cast<uint32_t>(k));
+                    const Vec3 wi = frame.to_world(
+                        sample_cosine_hemisphere(Vec2(rng.uniform(), rng.uniform())));
+                    const std::optional<Hit> next =
+                        scene.intersect(spawn_ray(si.surface_point(), wi));
+                    ++leaving;
+                    again += next && next->prim == hit->prim;
+                }
+            }
+        return again;
+    };
+    int rays = 0;
+    const int ours = self_hits(rays);
+    scene.naive.textbook_quadratic = true;
+    scene.naive.fixed_epsilon = 1e-4f;
+    const int naive = self_hits(rays);
+    figure("smallpt sphere walls, diffuse rays leaving a wall: " + std::to_string(ours) + " of " +
+           std::to_string(rays) + " re-hit it (double-precision spheres, error-bound offsets); " +
+           std::to_string(naive) +
+           " with the textbook quadratic in float and a fixed epsilon of 1e-4");
+    EXPECT_GT(rays, 10000);
+    EXPECT_EQ(ours, 0);
+    EXPECT_GT(naive, 0);
 }
 
 // 6. Degenerate scatter directions and sampler inputs at 0 and 1 - ulp.
@@ -299,6 +345,49 @@ TEST(HardCases, NestedAndTouchingGlassConserveEnergyAndTerminate) {
     EXPECT_NEAR(sum / 512, 1.0, 0.02);
 }
 
+TEST(HardCases, TheSideARayHitsComesFromTheHitTestNotADotProduct) {
+    // Rays from outside a sphere that pass within 1e-7..1e-3 (relative) of its silhouette: every
+    // hit is an entry. A side decided by dot(d, n) flips when rounding puts the computed point
+    // past the chord's middle; the hit test knows which root it took.
+    Scene scene;
+    Material m;
+    m.type = MaterialType::Glass;
+    m.ior = 1.5f;
+    const uint32_t glass = scene.add_material(m);
+    const Vec3 center(0.3f, -0.2f, 0.1f);
+    scene.add_sphere(Sphere{center, 1.0f}, glass);
+    scene.commit();
+    Rng rng(7, 0, 0);
+    int hits = 0, ours_wrong = 0, float_wrong = 0, naive_wrong = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const Vec3 axis = sample_uniform_sphere(Vec2(rng.uniform(), rng.uniform()));
+        const Frame frame(axis);
+        const Vec3 side = frame.to_world(Vec3(1, 0, 0));
+        const float miss_by = std::pow(10.0f, -7.0f + 4.0f * rng.uniform());  // inside the rim
+        const Vec3 origin = center + 4.0f * side + (1.0f - miss_by) * axis;
+        const Ray ray{origin, glm::normalize(-side)};
+        const std::optional<Hit> hit = scene.intersect(ray);
+        if (!hit) continue;
+        ++hits;
+        ours_wrong += !scene.interaction(ray, *hit).front_face();
+        scene.naive.textbook_quadratic = true;  // a wrong point, but the side still from the root
+        const std::optional<Hit> float_hit = scene.intersect(ray);
+        float_wrong += float_hit && !scene.interaction(ray, *float_hit).front_face();
+        scene.naive.side_by_dot = true;  // the textbook pipeline
+        const std::optional<Hit> naive_hit = scene.intersect(ray);
+        naive_wrong += naive_hit && !scene.interaction(ray, *naive_hit).front_face();
+        scene.naive = {};
+    }
+    figure("rays grazing a glass sphere from outside: " + std::to_string(ours_wrong) + " of " +
+           std::to_string(hits) + " hits taken as exits (side from the hit test); " +
+           std::to_string(float_wrong) + " with the textbook quadratic in float; " +
+           std::to_string(naive_wrong) + " with that and the side from dot(d, n)");
+    EXPECT_GT(hits, 50000);
+    EXPECT_EQ(ours_wrong, 0);
+    EXPECT_EQ(float_wrong, 0);
+    EXPECT_GT(naive_wrong, 0);
+}
+
 // 8. Shading normals on a low-poly sphere: no black silhouettes, no light through the surface.
 TEST(HardCases, LowPolySmoothSphereHasNoBlackSilhouette) {
     const Scene scene = load_scene(kScenes + "hard/lowpoly_sphere.toml", {64, 48});
@@ -317,10 +406,25 @@ TEST(HardCases, LowPolySmoothSphereHasNoBlackSilhouette) {
             ++on_sphere;
             black += is_black(r.image.at(x, y));  // the sky alone lights every visible facet
         }
+    Scene naive = load_scene(kScenes + "hard/lowpoly_sphere.toml", {64, 48});
+    naive.naive.raw_shading_normals = true;
+    const LightSampler naive_lights(naive);
+    const RenderResult n =
+        render_scene(naive, make_reflection_model(naive, naive_lights, {}), 16, settings);
+    int naive_black = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
+            const std::optional<Hit> hit = scene.intersect(ray);
+            if (hit && hit->prim.kind() == ShapeKind::Triangle)
+                naive_black += is_black(n.image.at(x, y));
+        }
     figure("low-poly smooth sphere: " + std::to_string(black) + " black of " +
-           std::to_string(on_sphere) + " pixels on the sphere");
+           std::to_string(on_sphere) + " pixels on the sphere (" + std::to_string(naive_black) +
+           " with the interpolated normal used as it is)");
     EXPECT_GT(on_sphere, 200);
     EXPECT_EQ(black, 0);
+    EXPECT_GT(naive_black, 0);
 }
 
 // 9. One-sided area lights: nothing behind them.
@@ -341,10 +445,18 @@ TEST(HardCases, NothingIsLitBehindAOneSidedLight) {
         Rng rng(10, 0, i);
         ceiling += reflection_equation(scene, lights, up, rng, {}).x;
     }
+    scene.naive.light_abs_cosine = true;  // next-event estimation with |cos| at the lamp
+    double naive_floor = 0.0;
+    for (int i = 0; i < 2000; ++i) {
+        Rng rng(9, 0, i);
+        naive_floor += reflection_equation(scene, lights, down, rng, {}).x;
+    }
     figure("one-sided lamp facing up: direct light on the floor below " +
-           std::to_string(floor_direct / 2000) + ", on the ceiling above " +
-           std::to_string(ceiling / 2000));
+           std::to_string(floor_direct / 2000) +
+           " (with |cos| at the lamp: " + std::to_string(naive_floor / 2000) +
+           "), on the ceiling above " + std::to_string(ceiling / 2000));
     EXPECT_EQ(floor_direct, 0.0);
+    EXPECT_GT(naive_floor, 0.0);
     EXPECT_GT(ceiling, 0.0);
 }
 
@@ -406,4 +518,37 @@ TEST(HardCases, DegenerateTrianglesAreSkippedAndCounted) {
     figure("degenerate OBJ: " + std::to_string(scene.triangles().size()) +
            " of 4 triangles kept (2 of zero area skipped, with a warning)");
     EXPECT_EQ(scene.triangles().size(), 2u);
+}
+
+TEST(HardCases, TheCoreSurvivesDegenerateAndNaNTrianglesGivenUnchecked) {
+    // Defence in depth behind the loader's checks: the same square, with the degenerate triangles
+    // kept and one vertex that a loader without checks would read as NaN, given straight to the
+    // core. The BVH's bounds ignore NaN and both triangle tests reject a zero determinant, so the
+    // image must not change and nothing may turn NaN.
+    const Scene clean = load_scene(kScenes + "hard/degenerate_geometry.toml");
+    Scene naive = load_scene(kScenes + "hard/degenerate_geometry.toml");
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<Vec3> v = {{-1, 0, -1}, {1, 0, -1}, {0, 0, 0}, {2, 0, 2}, {0.5f, nan, 0.5f}};
+    naive.add_mesh(v, {}, {},
+                   {{{0, 0, 1}, 0, false}, {{0, 2, 3}, 0, false}, {{0, 1, 4}, 0, false}});
+    naive.commit();
+    RenderSettings settings;
+    settings.progress = false;
+    settings.jitter = false;
+    const RenderResult a = render_scene(clean, make_ray_casting_model(clean, {}), 1, settings);
+    const RenderResult b = render_scene(naive, make_ray_casting_model(naive, {}), 1, settings);
+    naive.naive.moller_trumbore = true;
+    const RenderResult c = render_scene(naive, make_ray_casting_model(naive, {}), 1, settings);
+    int differ = 0, differ_mt = 0;
+    for (size_t i = 0; i < a.image.pixels.size(); ++i) {
+        differ += !(a.image.pixels[i] == b.image.pixels[i]);
+        differ_mt += !(a.image.pixels[i] == c.image.pixels[i]);
+    }
+    figure("degenerate and NaN triangles given to the core unchecked: " +
+           std::to_string(b.nan_samples + b.inf_samples) + " NaN/Inf samples, " +
+           std::to_string(differ) + " of " + std::to_string(a.image.pixels.size()) +
+           " pixels changed (with Moller-Trumbore: " + std::to_string(differ_mt) + ")");
+    EXPECT_EQ(b.nan_samples + b.inf_samples + c.nan_samples + c.inf_samples, 0u);
+    EXPECT_EQ(differ, 0);
+    EXPECT_EQ(differ_mt, 0);
 }
