@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace lessons {
 
@@ -17,6 +19,13 @@ constexpr int kMedianSplitDepth = 64;   // deeper than this, split at the median
 struct Bin {
     Bounds3 bounds;
     uint32_t count = 0;
+};
+
+// The binary tree the build makes before collapsing it: 32-byte nodes, children side by side.
+struct BinaryNode {
+    Bounds3 box;
+    uint32_t first;  // interior: index of the left child (right = first + 1); leaf: first primitive
+    uint32_t count;  // number of primitives in a leaf; 0 for an interior node
 };
 
 struct BuildTask {
@@ -36,67 +45,140 @@ int bin_of(float centroid, float lo, float scale) {
     return static_cast<int>(b);
 }
 
+// Collapses binary node b into a 4-wide node (or, for a leaf, a leaf slot); returns the slot's
+// code for the parent. Each node adopts the two children of its largest interior child until it
+// has four: large boxes are the ones rays enter most often (the SAH's reasoning).
+// Leaves are laid out in the final primitive order as they are reached (depth first), each
+// starting at a multiple of kLeafAlignment: order[] is filled here from the build's order.
+struct Collapse {
+    const std::vector<BinaryNode>& binary;
+    const std::vector<uint32_t>& build_order;
+    std::vector<BvhNode>& nodes;
+    std::vector<uint32_t>& order;
+
+    uint32_t leaf(uint32_t first, uint32_t count) {
+        while (order.size() % Bvh::kLeafAlignment != 0) order.push_back(Bvh::kPadding);
+        const auto start = static_cast<uint32_t>(order.size());
+        for (uint32_t i = first; i < first + count; ++i) order.push_back(build_order[i]);
+        return BvhNode::make_leaf(start, count);
+    }
+    uint32_t operator()(uint32_t b);
+};
+
+uint32_t Collapse::operator()(uint32_t b) {
+    if (binary[b].count > 0) return leaf(binary[b].first, binary[b].count);
+    uint32_t slots[kBvhWidth] = {binary[b].first, binary[b].first + 1};
+    int used = 2;
+    while (used < kBvhWidth) {
+        int widest = -1;
+        float widest_area = -1.0f;
+        for (int i = 0; i < used; ++i) {
+            const BinaryNode& c = binary[slots[i]];
+            if (c.count == 0 && c.box.surface_area() > widest_area) {
+                widest = i;
+                widest_area = c.box.surface_area();
+            }
+        }
+        if (widest < 0) break;  // every slot is a leaf
+        const uint32_t left = binary[slots[widest]].first;
+        slots[widest] = left;
+        slots[used++] = left + 1;
+    }
+    const auto index = static_cast<uint32_t>(nodes.size());
+    nodes.emplace_back();
+    for (int axis = 0; axis < 6; ++axis)
+        nodes[index].bounds[axis] = BoxLanes{} + (axis % 2 == 0 ? kInfinity : -kInfinity);
+    for (int i = 0; i < used; ++i) {
+        const Bounds3& box = binary[slots[i]].box;
+        const uint32_t child = (*this)(slots[i]);  // may move nodes
+        BvhNode& node = nodes[index];
+        for (int axis = 0; axis < 3; ++axis) {
+            node.bounds[2 * axis][i] = box.min[axis];
+            node.bounds[2 * axis + 1][i] = box.max[axis];
+        }
+        node.child[i] = child;
+    }
+    for (int i = used; i < kBvhWidth; ++i) nodes[index].child[i] = 0;  // never entered: empty box
+    return index;
+}
+
 }  // namespace
 
 Bvh::Bvh(std::span<const Bounds3> boxes) {
     const uint32_t n = static_cast<uint32_t>(boxes.size());
     if (n == 0) return;
-    prim_index_.resize(n);
-    std::iota(prim_index_.begin(), prim_index_.end(), 0u);
-    std::vector<Vec3> centroids(n);
-    for (uint32_t i = 0; i < n; ++i) centroids[i] = boxes[i].centroid();
+    if (boxes.size() > BvhNode::kMaxFirst)
+        throw std::length_error("too many primitives for one BVH: " + std::to_string(boxes.size()));
+    // The build sorts copies of the boxes, each with its centroid and primitive index: every
+    // pass over a node's primitives then reads memory in order (no index chasing).
+    struct BuildRef {
+        Bounds3 box;
+        Vec3 centroid;
+        uint32_t prim;
+    };
+    std::vector<BuildRef> refs(n);
+    for (uint32_t i = 0; i < n; ++i) refs[i] = {boxes[i], boxes[i].centroid(), i};
 
-    nodes_.reserve(2 * n);
-    nodes_.push_back({});
+    std::vector<BinaryNode> binary;
+    binary.reserve(2 * n);
+    binary.push_back({});
     std::vector<BuildTask> tasks{{0, 0, n, 0}};
     while (!tasks.empty()) {
         const BuildTask task = tasks.back();
         tasks.pop_back();
         const uint32_t count = task.end - task.begin;
+        BuildRef* const first = refs.data() + task.begin;
+        BuildRef* const last = refs.data() + task.end;
 
         Bounds3 node_box, centroid_box;
-        for (uint32_t i = task.begin; i < task.end; ++i) {
-            node_box.expand(boxes[prim_index_[i]]);
-            centroid_box.expand(centroids[prim_index_[i]]);
+        for (const BuildRef* r = first; r != last; ++r) {
+            node_box.expand(r->box);
+            centroid_box.expand(r->centroid);
         }
-        BvhNode& node = nodes_[task.node];
-        node.box_min = node_box.min;
-        node.box_max = node_box.max;
+        BinaryNode& node = binary[task.node];
+        node.box = node_box;
         node.first = task.begin;
         node.count = count;
         if (count == 1) continue;
 
-        // Find the cheapest binned SAH split over the three axes.
+        // Bin the centroids along all three axes in one pass.
+        Vec3 scale;
+        bool usable[3];
+        for (int axis = 0; axis < 3; ++axis) {
+            const float extent = centroid_box.max[axis] - centroid_box.min[axis];
+            scale[axis] = kBins / extent;
+            usable[axis] = extent > 0.0f && std::isfinite(scale[axis]);  // else below float
+        }                                                                // resolution, or NaN
+        std::array<std::array<Bin, kBins>, 3> bins{};
+        for (const BuildRef* r = first; r != last; ++r)
+            for (int axis = 0; axis < 3; ++axis) {
+                Bin& bin =
+                    bins[axis][bin_of(r->centroid[axis], centroid_box.min[axis], scale[axis])];
+                bin.bounds.expand(r->box);
+                ++bin.count;
+            }
+
+        // Find the cheapest split between bins over the three axes.
         Split best;
         const float node_area = node_box.surface_area();
         for (int axis = 0; axis < 3; ++axis) {
-            const float lo = centroid_box.min[axis], hi = centroid_box.max[axis];
-            if (!(hi > lo)) continue;
-            const float scale = kBins / (hi - lo);
-            if (!std::isfinite(scale)) continue;  // extent below float resolution
-            std::array<Bin, kBins> bins{};
-            for (uint32_t i = task.begin; i < task.end; ++i) {
-                const uint32_t p = prim_index_[i];
-                Bin& b = bins[bin_of(centroids[p][axis], lo, scale)];
-                b.bounds.expand(boxes[p]);
-                ++b.count;
-            }
+            if (!usable[axis]) continue;
             // Sweep from the right to get the area and count of every right-hand side.
             std::array<float, kBins> right_area{};
             std::array<uint32_t, kBins> right_count{};
             Bounds3 acc;
             uint32_t acc_count = 0;
             for (int b = kBins - 1; b > 0; --b) {
-                acc.expand(bins[b].bounds);
-                acc_count += bins[b].count;
+                acc.expand(bins[axis][b].bounds);
+                acc_count += bins[axis][b].count;
                 right_area[b] = acc.surface_area();
                 right_count[b] = acc_count;
             }
             acc = Bounds3{};
             acc_count = 0;
             for (int b = 0; b < kBins - 1; ++b) {
-                acc.expand(bins[b].bounds);
-                acc_count += bins[b].count;
+                acc.expand(bins[axis][b].bounds);
+                acc_count += bins[axis][b].count;
                 if (acc_count == 0 || right_count[b + 1] == 0) continue;
                 const float cost = kTraversalCost + (acc.surface_area() * acc_count +
                                                      right_area[b + 1] * right_count[b + 1]) /
@@ -105,43 +187,62 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
             }
         }
 
-        const bool small = count <= static_cast<uint32_t>(kMaxLeafSize);
-        if (small && (best.axis < 0 || best.cost >= static_cast<float>(count))) continue;  // leaf
+        // Up to kMaxLeafSize primitives always make a leaf: its triangles are tested together,
+        // four at once (Scene), which costs about what one test does.
+        if (count <= static_cast<uint32_t>(kMaxLeafSize)) continue;  // leaf
 
         uint32_t mid;
-        auto* first = prim_index_.data() + task.begin;
-        auto* last = prim_index_.data() + task.end;
         if (best.axis >= 0 && task.depth < static_cast<uint32_t>(kMedianSplitDepth)) {
             const int axis = best.axis;
             const float lo = centroid_box.min[axis];
-            const float scale = kBins / (centroid_box.max[axis] - lo);
-            auto* split = std::partition(first, last, [&](uint32_t p) {
-                return bin_of(centroids[p][axis], lo, scale) <= best.bin;
+            BuildRef* split = std::partition(first, last, [&](const BuildRef& r) {
+                return bin_of(r.centroid[axis], lo, scale[axis]) <= best.bin;
             });
-            mid = static_cast<uint32_t>(split - prim_index_.data());
+            mid = static_cast<uint32_t>(split - refs.data());
         } else {
             // No usable split (all centroids coincide) or too deep: halve by count.
             const int axis = centroid_box.longest_axis();
             mid = task.begin + count / 2;
-            std::nth_element(first, prim_index_.data() + mid, last, [&](uint32_t a, uint32_t b) {
-                return centroids[a][axis] < centroids[b][axis];
-            });
+            std::nth_element(first, refs.data() + mid, last,
+                             [&](const BuildRef& a, const BuildRef& b) {
+                                 return a.centroid[axis] < b.centroid[axis];
+                             });
         }
 
-        const uint32_t left = static_cast<uint32_t>(nodes_.size());
-        nodes_.push_back({});
-        nodes_.push_back({});
-        nodes_[task.node].first = left;  // re-index: push_back may have moved `node`
-        nodes_[task.node].count = 0;
+        const uint32_t left = static_cast<uint32_t>(binary.size());
+        binary.push_back({});
+        binary.push_back({});
+        binary[task.node].first = left;  // re-index: push_back may have moved `node`
+        binary[task.node].count = 0;
         tasks.push_back({left + 1, mid, task.end, task.depth + 1});
         tasks.push_back({left, task.begin, mid, task.depth + 1});
     }
-    nodes_.shrink_to_fit();
-}
+    bounds_ = binary[0].box;
+    std::vector<uint32_t> build_order(n);
+    for (uint32_t i = 0; i < n; ++i) build_order[i] = refs[i].prim;
+    refs = {};
+    prim_index_.reserve(n + n / 2);
+    Collapse collapse{binary, build_order, nodes_, prim_index_};
 
-Bounds3 Bvh::bounds() const {
-    if (nodes_.empty()) return {};
-    return {nodes_[0].box_min, nodes_[0].box_max};
+    // The root is always a 4-wide node, even over a single leaf.
+    nodes_.reserve(binary.size() / 3 + 1);
+    if (binary[0].count > 0) {
+        nodes_.emplace_back();
+        for (int axis = 0; axis < 6; ++axis)
+            nodes_[0].bounds[axis] = BoxLanes{} + (axis % 2 == 0 ? kInfinity : -kInfinity);
+        for (int axis = 0; axis < 3; ++axis) {
+            nodes_[0].bounds[2 * axis][0] = bounds_.min[axis];
+            nodes_[0].bounds[2 * axis + 1][0] = bounds_.max[axis];
+        }
+        nodes_[0].child[0] = collapse.leaf(0, binary[0].count);
+        for (int i = 1; i < kBvhWidth; ++i) nodes_[0].child[i] = 0;
+    } else {
+        collapse(0);
+    }
+    nodes_.shrink_to_fit();
+    prim_index_.shrink_to_fit();
+    if (prim_index_.size() > BvhNode::kMaxFirst)
+        throw std::length_error("too many primitives for one BVH: " + std::to_string(n));
 }
 
 size_t Bvh::memory_bytes() const {

@@ -11,6 +11,10 @@
 
 namespace lessons {
 
+// Four floats in one SSE register (GCC/Clang vector extension): arithmetic and comparisons act on
+// all four lanes at once, for the BVH's four boxes and a leaf's four triangles.
+using Float4 = float __attribute__((vector_size(16)));
+
 using Vec2 = glm::vec2;
 using Vec3 = glm::vec3;
 using Color = glm::vec3;  // linear RGB radiance, irradiance or reflectance

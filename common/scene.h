@@ -138,6 +138,8 @@ public:
     uint32_t material_of(PrimRef prim) const;
     Bounds3 primitive_bounds(PrimRef prim) const;
     Bounds3 bounds() const { return bvh_.bounds(); }
+    // Bytes held for intersection: shapes, vertices, triangles and the BVH (not materials).
+    size_t geometry_bytes() const;
 
     // ---- what is seen and how ----
     Camera camera;
@@ -147,8 +149,16 @@ public:
     std::string source;      // the file it came from, for messages and reports
 
 private:
-    bool intersect_primitive(PrimRef prim, const Ray& ray, const WatertightRay& wr, float t_max,
+    // Tests the primitive at position k of the BVH's order.
+    bool intersect_primitive(uint32_t k, const Ray& ray, const WatertightRay& wr, float t_max,
                              ShapeHit& hit) const;
+
+    // Tests the primitives of one BVH leaf, positions [first, end), within (0, t_max); calls
+    // on_hit(k, hit) for each hit found, and stops when it returns true. A closest-hit query's
+    // on_hit lowers t_max to the hit's distance.
+    template <class OnHit>
+    bool intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const WatertightRay& wr,
+                        float& t_max, OnHit&& on_hit) const;
 
     std::vector<Material> materials_;
     std::vector<Sphere> spheres_;
@@ -159,7 +169,10 @@ private:
     std::vector<Vec3> normals_;  // empty, or one per position
     std::vector<Vec2> uvs_;      // empty, or one per position
     std::vector<Triangle> triangles_;
-    std::vector<PrimRef> prims_;  // BVH primitive index -> PrimRef
+    std::vector<PrimRef> prims_;                  // in the BVH's primitive order
+    std::vector<TriangleBlock> triangle_blocks_;  // vertices of positions 4b..4b+3; empty without
+                                                  // triangles; other lanes NaN
+    bool only_triangles_ = false;
     std::vector<PointLight> point_lights_;
     std::vector<AreaLight> area_lights_;
     Bvh bvh_;

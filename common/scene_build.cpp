@@ -1,4 +1,5 @@
 // Stage 2 of scene loading: SceneDescription -> Scene.
+#include <cmath>
 #include <iostream>
 #include <map>
 
@@ -75,6 +76,32 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
 
 }  // namespace
 
+std::array<Quad, 6> box_faces(const ShapeDescription& b) {
+    // The rotation about y by t: x' = cos t x + sin t z, z' = -sin t x + cos t z (right-handed,
+    // turning +z towards +x); its determinant is 1, so outward faces stay outward.
+    const double t = b.rotate_y * (3.14159265358979323846 / 180.0);
+    const double c = std::cos(t), s = std::sin(t);
+    auto rotate = [&](const glm::dvec3& p) {
+        return glm::dvec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
+    };
+    const glm::dvec3 size = b.box_max - b.box_min;
+    const glm::dvec3 dx = rotate({size.x, 0.0, 0.0}), dy = rotate({0.0, size.y, 0.0}),
+                     dz = rotate({0.0, 0.0, size.z});
+    const glm::dvec3 lo = rotate(b.box_min) + b.translate;  // the corner at box_min
+    // Each face: corner, edge_u, edge_v with cross(edge_u, edge_v) pointing out of the box.
+    auto face = [](const glm::dvec3& corner, const glm::dvec3& u, const glm::dvec3& v) {
+        return Quad(Vec3(corner), Vec3(u), Vec3(v));
+    };
+    return {
+        face(lo, dz, dy),       // x = min.x, normal -x: cross(z, y) = -x
+        face(lo + dx, dy, dz),  // x = max.x, normal +x
+        face(lo, dx, dz),       // y = min.y, normal -y: cross(x, z) = -y
+        face(lo + dy, dz, dx),  // y = max.y, normal +y
+        face(lo, dy, dx),       // z = min.z, normal -z
+        face(lo + dz, dx, dy),  // z = max.z, normal +z
+    };
+}
+
 Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     Scene scene;
     scene.source = d.file;
@@ -110,6 +137,10 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                 break;
             case ShapeDescription::Type::Quad:
                 scene.add_quad(Quad(s.corner, s.edge_u, s.edge_v), static_cast<uint32_t>(material));
+                break;
+            case ShapeDescription::Type::Box:
+                for (const Quad& q : box_faces(s))
+                    scene.add_quad(q, static_cast<uint32_t>(material));
                 break;
             case ShapeDescription::Type::Mesh:
                 if (s.file.empty())

@@ -49,8 +49,10 @@ public:
         if (!n) {
             std::string message =
                 "missing (required in " + (path_.empty() ? "the scene" : path_) + ")";
+            // A key already read as another field (a box's min, when max is missing) is no typo.
             std::vector<std::string> present;
-            for (const auto& [k, v] : table_) present.emplace_back(k.str());
+            for (const auto& [k, v] : table_)
+                if (!used_.count(std::string(k.str()))) present.emplace_back(k.str());
             const std::string typo = closest_match(std::string(key), present);
             if (!typo.empty()) message += "; found '" + typo + "': a typo?";
             throw InputError(file_, line(), field(key), message);
@@ -103,12 +105,13 @@ public:
         return *n.value<bool>();
     }
 
-    Vec3 vec3_of(const toml::node& n, std::string_view key) const {
+    // [x, y, z] as written in the file (double), checked finite and at most 1e9 in magnitude.
+    glm::dvec3 dvec3_of(const toml::node& n, std::string_view key) const {
         const toml::array* a = n.as_array();
         if (!a || a->size() != 3)
             fail(key, "expected an array of 3 numbers, got " +
                           (a ? "an array of " + std::to_string(a->size()) : type_name(n)));
-        Vec3 v;
+        glm::dvec3 v;
         for (int i = 0; i < 3; ++i) {
             const toml::node& c = *a->get(static_cast<size_t>(i));
             if (!c.is_number())
@@ -122,9 +125,14 @@ public:
                 fail(key, "element " + std::to_string(i) +
                               " is too large for single precision "
                               "geometry (|x| must be at most 1e9)");
-            v[i] = static_cast<float>(x);
+            v[i] = x;
         }
         return v;
+    }
+    Vec3 vec3_of(const toml::node& n, std::string_view key) const { return Vec3(dvec3_of(n, key)); }
+    glm::dvec3 dvec3(std::string_view key) { return dvec3_of(require(key), key); }
+    glm::dvec3 dvec3(std::string_view key, const glm::dvec3& fallback) {
+        return has(key) ? dvec3(key) : fallback;
     }
     Vec3 vec3(std::string_view key) { return vec3_of(require(key), key); }
     Vec3 vec3(std::string_view key, const Vec3& fallback) {
@@ -318,6 +326,32 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
         if (!(glm::dot(n, n) > 0.0f))
             r.fail("edge_v", "is parallel to edge_u: the quad has no area");
         allowed.insert(allowed.end(), {"corner", "edge_u", "edge_v"});
+    } else if (type == "box") {
+        s.type = ShapeDescription::Type::Box;
+        s.box_min = r.dvec3("min");
+        s.box_max = r.dvec3("max");
+        for (int i = 0; i < 3; ++i)
+            if (!(s.box_max[i] > s.box_min[i])) {
+                std::ostringstream m;
+                m << "must be greater than min on every axis; on "
+                  << "xyz"[i] << ", max = " << s.box_max[i] << " <= min = " << s.box_min[i];
+                r.fail("max", m.str());
+            }
+        s.rotate_y = r.number("rotate_y", 0.0);
+        s.translate = r.dvec3("translate", glm::dvec3(0.0));
+        // The faces as they will be built: still within single-precision reach, and not so thin
+        // that an edge rounds to nothing.
+        for (const Quad& q : box_faces(s)) {
+            for (const Vec3& p : {q.corner, q.corner + q.edge_u, q.corner + q.edge_v,
+                                  q.corner + q.edge_u + q.edge_v})
+                if (max_component(glm::abs(p)) > kMaxCoordinate)
+                    r.fail(r.has("translate") ? "translate" : "max",
+                           "the rotated and moved box is too large for single precision "
+                           "geometry (|x| must be at most 1e9)");
+            if (!(q.area() > 0.0f))
+                r.fail("max", "the box is too thin for single precision: a face has no area");
+        }
+        allowed.insert(allowed.end(), {"min", "max", "rotate_y", "translate"});
     } else if (type == "mesh") {
         s.type = ShapeDescription::Type::Mesh;
         allowed.insert(allowed.end(), {"file", "vertices", "faces"});
@@ -358,11 +392,11 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
             if (s.material.empty()) r.require("material");  // inline meshes have no MTL
         }
     } else {
-        const std::vector<std::string> types = {"sphere", "quad", "mesh"};
+        const std::vector<std::string> types = {"sphere", "quad", "box", "mesh"};
         std::string message = "unknown shape type '" + type + "'";
         const std::string guess = closest_match(type, types);
         if (!guess.empty()) message += "; did you mean '" + guess + "'?";
-        r.fail("type", message + " (known: sphere, quad, mesh)");
+        r.fail("type", message + " (known: sphere, quad, box, mesh)");
     }
     r.reject_unknown(allowed, "a " + type);
     return s;

@@ -7,6 +7,7 @@
 // The format is documented field by field, with units, in docs/scene-format.md.
 #pragma once
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,7 +31,7 @@ struct MaterialDescription {
 };
 
 struct ShapeDescription {
-    enum class Type { Sphere, Quad, Mesh } type = Type::Sphere;
+    enum class Type { Sphere, Quad, Box, Mesh } type = Type::Sphere;
     std::string material;  // may be empty for an OBJ mesh whose faces name MTL materials
     SourceLocation where;
     SourceLocation material_where;
@@ -39,6 +40,10 @@ struct ShapeDescription {
     float radius = 1.0f;
     // quad
     Vec3 corner{0.0f}, edge_u{0.0f}, edge_v{0.0f};
+    // box: the axis-aligned box [box_min, box_max], turned about the y axis by rotate_y degrees,
+    // then moved by translate. Kept in double, as written in the file, until box_faces.
+    glm::dvec3 box_min{0.0}, box_max{1.0}, translate{0.0};
+    double rotate_y = 0.0;
     // mesh: either a file, or inline vertices and polygonal faces
     std::string file;  // resolved relative to the scene file's folder
     SourceLocation file_where;
@@ -63,6 +68,12 @@ struct SceneDescription {
     std::vector<ShapeDescription> shapes;
     std::vector<PointLightDescription> point_lights;
 };
+
+// A box shape as its six faces, each a quad whose front side, cross(edge_u, edge_v), faces out
+// of the box. With t = rotate_y, a point p of [box_min, box_max] goes to
+//   (cos t p.x + sin t p.z,  p.y,  -sin t p.x + cos t p.z) + translate,
+// computed in double; each corner and edge is rounded to single precision once.
+std::array<Quad, 6> box_faces(const ShapeDescription& box);
 
 // Stage 1. Throws InputError.
 SceneDescription parse_scene_file(const std::string& path);

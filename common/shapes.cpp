@@ -103,23 +103,6 @@ Bounds3 Quad::bounds() const {
     return b;
 }
 
-bool intersect_quad(const Quad& q, const Ray& ray, ShapeHit& hit) {
-    const float denom = glm::dot(q.normal, ray.dir);
-    if (denom == 0.0f) return false;  // parallel to the plane
-    const float t = glm::dot(q.normal, q.corner - ray.origin) / denom;
-    if (!(t > 0.0f && t < ray.t_max)) return false;
-    const Vec3 rel = ray.at(t) - q.corner;
-    // Edge coordinates: rel = a u + b v solved by Cramer's rule with the normal's cross product.
-    const float a = glm::dot(q.inv_cross, glm::cross(rel, q.edge_v));
-    const float b = glm::dot(q.inv_cross, glm::cross(q.edge_u, rel));
-    if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) return false;
-    hit.t = t;
-    hit.u = a;
-    hit.v = b;
-    hit.front = denom < 0.0f;  // the ray runs against the normal: it arrives from the front
-    return true;
-}
-
 SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit) {
     SurfaceGeometry g;
     g.p = q.corner + hit.u * q.edge_u + hit.v * q.edge_v;
@@ -141,61 +124,6 @@ WatertightRay::WatertightRay(const Ray& ray) : origin(ray.origin) {
     sx = ray.dir[kx] / ray.dir[kz];
     sy = ray.dir[ky] / ray.dir[kz];
     sz = 1.0f / ray.dir[kz];
-}
-
-bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Vec3& p1, const Vec3& p2,
-                        float t_max, ShapeHit& hit) {
-    // Vertices relative to the ray origin, sheared so the ray runs along +z.
-    const Vec3 a = p0 - wr.origin, b = p1 - wr.origin, c = p2 - wr.origin;
-    const float ax = a[wr.kx] - wr.sx * a[wr.kz], ay = a[wr.ky] - wr.sy * a[wr.kz];
-    const float bx = b[wr.kx] - wr.sx * b[wr.kz], by = b[wr.ky] - wr.sy * b[wr.kz];
-    const float cx = c[wr.kx] - wr.sx * c[wr.kz], cy = c[wr.ky] - wr.sy * c[wr.kz];
-
-    // Edge functions: twice the signed areas of the sub-triangles opposite each vertex.
-    float e0 = cx * by - cy * bx;
-    float e1 = ax * cy - ay * cx;
-    float e2 = bx * ay - by * ax;
-    // An exact zero in float may be a rounding artefact: decide the sign in double.
-    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
-        e0 = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-        e1 = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-        e2 = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
-    }
-    if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f))
-        return false;  // the ray passes outside one edge
-    const float det = e0 + e1 + e2;
-    if (det == 0.0f) return false;  // degenerate, or seen exactly edge-on
-
-    // Scaled hit distance; compared against t_max * det so no division is needed to reject.
-    const float az = wr.sz * a[wr.kz], bz = wr.sz * b[wr.kz], cz = wr.sz * c[wr.kz];
-    const float t_scaled = e0 * az + e1 * bz + e2 * cz;
-    if (det < 0.0f && (t_scaled >= 0.0f || t_scaled <= t_max * det)) return false;
-    if (det > 0.0f && (t_scaled <= 0.0f || t_scaled >= t_max * det)) return false;
-
-    const float inv_det = 1.0f / det;
-    const float t = t_scaled * inv_det;
-    // Only accept t if it is positive beyond its own rounding error, so a ray spawned from this
-    // triangle (offset by less than that error) cannot re-hit it. Bound from pbrt-v4 (sec. 6.8.7).
-    const float max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
-    const float max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
-    const float max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
-    const float delta_z = gamma_bound(3) * max_z;
-    const float delta_x = gamma_bound(5) * (max_x + max_z);
-    const float delta_y = gamma_bound(5) * (max_y + max_z);
-    const float delta_e =
-        2.0f * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    const float max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
-    const float delta_t = 3.0f *
-                          (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
-                          std::fabs(inv_det);
-    if (!(t > delta_t)) return false;
-    hit.t = t;
-    hit.u = e1 * inv_det;
-    hit.v = e2 * inv_det;
-    // det is twice the triangle's signed area seen along the ray: positive when its vertices
-    // run counter-clockwise, i.e. when cross(p1 - p0, p2 - p0) faces the ray.
-    hit.front = det > 0.0f;
-    return true;
 }
 
 bool intersect_triangle_moller_trumbore(const Ray& ray, const Vec3& p0, const Vec3& p1,

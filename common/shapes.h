@@ -7,6 +7,8 @@
 // the surface_* functions, so rejected candidates cost as little as possible.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "bounds.h"
@@ -73,7 +75,22 @@ struct Quad {
 
 // Plane hit, then the edge coordinates a, b of the hit point; edges are included on both sides,
 // so two quads sharing an edge leave no crack between them.
-bool intersect_quad(const Quad& q, const Ray& ray, ShapeHit& hit);
+inline bool intersect_quad(const Quad& q, const Ray& ray, ShapeHit& hit) {  // inline: hot
+    const float denom = glm::dot(q.normal, ray.dir);
+    if (denom == 0.0f) return false;  // parallel to the plane
+    const float t = glm::dot(q.normal, q.corner - ray.origin) / denom;
+    if (!(t > 0.0f && t < ray.t_max)) return false;
+    const Vec3 rel = ray.at(t) - q.corner;
+    // Edge coordinates: rel = a u + b v solved by Cramer's rule with the normal's cross product.
+    const float a = glm::dot(q.inv_cross, glm::cross(rel, q.edge_v));
+    const float b = glm::dot(q.inv_cross, glm::cross(q.edge_u, rel));
+    if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) return false;
+    hit.t = t;
+    hit.u = a;
+    hit.v = b;
+    hit.front = denom < 0.0f;  // the ray runs against the normal: it arrives from the front
+    return true;
+}
 SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit);
 
 // ---------------------------------------------------------------------------------------------
@@ -84,13 +101,112 @@ SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit);
 // The per-ray shear is computed once per ray, not once per triangle.
 struct WatertightRay {
     Vec3 origin;
-    int kx, ky, kz;    // permutation that makes the largest direction component z
-    float sx, sy, sz;  // shear coefficients
+    int kx, ky, kz;             // permutation that makes the largest direction component z
+    float sx, sy, sz;           // shear coefficients
+    WatertightRay() = default;  // unset: for scenes without triangles
     explicit WatertightRay(const Ray& ray);
 };
 
-bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Vec3& p1, const Vec3& p2,
-                        float t_max, ShapeHit& hit);
+// Inline: it is the innermost test of every triangle scene (docs/performance.md).
+inline bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Vec3& p1,
+                               const Vec3& p2, float t_max, ShapeHit& hit) {
+    // Vertices relative to the ray origin, sheared so the ray runs along +z.
+    const Vec3 a = p0 - wr.origin, b = p1 - wr.origin, c = p2 - wr.origin;
+    const float ax = a[wr.kx] - wr.sx * a[wr.kz], ay = a[wr.ky] - wr.sy * a[wr.kz];
+    const float bx = b[wr.kx] - wr.sx * b[wr.kz], by = b[wr.ky] - wr.sy * b[wr.kz];
+    const float cx = c[wr.kx] - wr.sx * c[wr.kz], cy = c[wr.ky] - wr.sy * c[wr.kz];
+
+    // Edge functions: twice the signed areas of the sub-triangles opposite each vertex.
+    float e0 = cx * by - cy * bx;
+    float e1 = ax * cy - ay * cx;
+    float e2 = bx * ay - by * ax;
+    // An exact zero in float may be a rounding artefact: decide the sign in double.
+    if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
+        e0 = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
+        e1 = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
+        e2 = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+    }
+    if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f))
+        return false;  // the ray passes outside one edge
+    const float det = e0 + e1 + e2;
+    if (det == 0.0f) return false;  // degenerate, or seen exactly edge-on
+
+    // Scaled hit distance; compared against t_max * det so no division is needed to reject.
+    const float az = wr.sz * a[wr.kz], bz = wr.sz * b[wr.kz], cz = wr.sz * c[wr.kz];
+    const float t_scaled = e0 * az + e1 * bz + e2 * cz;
+    if (det < 0.0f && (t_scaled >= 0.0f || t_scaled <= t_max * det)) return false;
+    if (det > 0.0f && (t_scaled <= 0.0f || t_scaled >= t_max * det)) return false;
+
+    const float inv_det = 1.0f / det;
+    const float t = t_scaled * inv_det;
+    // Only accept t if it is positive beyond its own rounding error, so a ray spawned from this
+    // triangle (offset by less than that error) cannot re-hit it. Bound from pbrt-v4 (sec. 6.8.7).
+    const float max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
+    const float max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
+    const float max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
+    const float delta_z = gamma_bound(3) * max_z;
+    const float delta_x = gamma_bound(5) * (max_x + max_z);
+    const float delta_y = gamma_bound(5) * (max_y + max_z);
+    const float delta_e =
+        2.0f * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    const float max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
+    const float delta_t = 3.0f *
+                          (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
+                          std::fabs(inv_det);
+    if (!(t > delta_t)) return false;
+    hit.t = t;
+    hit.u = e1 * inv_det;
+    hit.v = e2 * inv_det;
+    // det is twice the triangle's signed area seen along the ray: positive when its vertices
+    // run counter-clockwise, i.e. when cross(p1 - p0, p2 - p0) faces the ray.
+    hit.front = det > 0.0f;
+    return true;
+}
+// Four triangles side by side (structure of arrays), as a BVH leaf stores them. candidates()
+// runs the watertight test's edge functions and distance bounds on all four at once. It is a
+// filter: it computes the values intersect_triangle computes, with the same operations in the
+// same order (no fused multiply-adds: -ffp-contract=off), so every lane it rejects would be
+// rejected there too; the few lanes that pass are then decided by intersect_triangle itself.
+// Lanes with an edge function of exactly zero, which the scalar test re-evaluates in double,
+// always pass. Unused lanes hold NaN, which passes nothing.
+struct TriangleBlock {
+    Float4 p[3][3];  // p[vertex][axis][lane]
+
+    Vec3 vertex(int lane, int v) const { return {p[v][0][lane], p[v][1][lane], p[v][2][lane]}; }
+    void set(int lane, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+        const Vec3* v[3] = {&p0, &p1, &p2};
+        for (int k = 0; k < 3; ++k)
+            for (int axis = 0; axis < 3; ++axis) p[k][axis][lane] = (*v[k])[axis];
+    }
+
+    // Bit i set: triangle i may be hit within (0, t_max).
+    [[gnu::always_inline]] unsigned candidates(const WatertightRay& wr, float t_max) const {
+        Float4 x[3], y[3], z[3];  // the vertices relative to the origin, in the shear frame
+        for (int k = 0; k < 3; ++k) {
+            const Float4 dx = p[k][wr.kx] - wr.origin[wr.kx];
+            const Float4 dy = p[k][wr.ky] - wr.origin[wr.ky];
+            const Float4 dz = p[k][wr.kz] - wr.origin[wr.kz];
+            x[k] = dx - wr.sx * dz;
+            y[k] = dy - wr.sy * dz;
+            z[k] = wr.sz * dz;
+        }
+        const Float4 e0 = x[2] * y[1] - y[2] * x[1];
+        const Float4 e1 = x[0] * y[2] - y[0] * x[2];
+        const Float4 e2 = x[1] * y[0] - y[1] * x[0];
+        const auto exact_zero = (e0 == 0.0f) | (e1 == 0.0f) | (e2 == 0.0f);
+        const auto outside =
+            ((e0 < 0.0f) | (e1 < 0.0f) | (e2 < 0.0f)) & ((e0 > 0.0f) | (e1 > 0.0f) | (e2 > 0.0f));
+        const Float4 det = e0 + e1 + e2;
+        const Float4 t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
+        const Float4 t_det = t_max * det;
+        const auto in_range = ((det < 0.0f) & (t_scaled < 0.0f) & (t_scaled > t_det)) |
+                              ((det > 0.0f) & (t_scaled > 0.0f) & (t_scaled < t_det));
+        const auto pass = exact_zero | (~outside & in_range);
+        return (pass[0] & 1u) | (pass[1] & 2u) | (pass[2] & 4u) | (pass[3] & 8u);
+    }
+};
+static_assert(sizeof(TriangleBlock) == 144);
+
 // Moller-Trumbore without watertightness, kept only to demonstrate cracks along edges.
 bool intersect_triangle_moller_trumbore(const Ray& ray, const Vec3& p0, const Vec3& p1,
                                         const Vec3& p2, ShapeHit& hit);

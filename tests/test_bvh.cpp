@@ -105,20 +105,33 @@ TEST(Bvh, EveryPrimitiveIsInExactlyOneLeafAndBoxesNest) {
     const Scene scene = random_scene(9, 50, 50, 5000, 10.0f);
     const Bvh& bvh = scene.bvh();
     std::vector<int> seen(scene.primitive_count(), 0);
-    for (const BvhNode& n : bvh.nodes()) {
-        if (n.count == 0) {
-            for (uint32_t c : {n.first, n.first + 1}) {
-                const BvhNode& child = bvh.nodes()[c];
-                for (int a = 0; a < 3; ++a) {
-                    EXPECT_LE(n.box_min[a], child.box_min[a]);
-                    EXPECT_GE(n.box_max[a], child.box_max[a]);
-                }
+    // Walk the 4-wide tree from the root: each slot's box lies inside its parent's box.
+    std::vector<std::pair<uint32_t, Bounds3>> todo = {{0u, bvh.bounds()}};
+    int nodes = 0;
+    while (!todo.empty()) {
+        const auto [index, parent_box] = todo.back();
+        todo.pop_back();
+        ++nodes;
+        const BvhNode& n = bvh.nodes()[index];
+        for (int i = 0; i < kBvhWidth; ++i) {
+            const Bounds3 box = n.child_bounds(i);
+            if (box.min.x > box.max.x) continue;  // an unused slot
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_LE(parent_box.min[a], box.min[a]);
+                EXPECT_GE(parent_box.max[a], box.max[a]);
             }
-            continue;
+            if (BvhNode::is_leaf(n.child[i])) {
+                const uint32_t first = BvhNode::leaf_first(n.child[i]);
+                EXPECT_LE(BvhNode::leaf_count(n.child[i]),
+                          static_cast<uint32_t>(Bvh::kMaxLeafSize));
+                for (uint32_t k = first; k < first + BvhNode::leaf_count(n.child[i]); ++k)
+                    ++seen[bvh.primitive_order()[k]];
+            } else {
+                todo.push_back({n.child[i], box});
+            }
         }
-        EXPECT_LE(n.count, static_cast<uint32_t>(Bvh::kMaxLeafSize));
-        for (uint32_t i = n.first; i < n.first + n.count; ++i) ++seen[bvh.primitive_order()[i]];
     }
+    EXPECT_EQ(nodes, static_cast<int>(bvh.nodes().size()));  // every node reached exactly once
     for (int s : seen) EXPECT_EQ(s, 1);
 }
 

@@ -1,6 +1,7 @@
 // Scene files: every error names file, line and field; valid files build the scene they say.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -137,6 +138,32 @@ TEST(SceneFile, EveryErrorNamesFileLineAndField) {
          kValidHead + "[[shapes]]\ntype = \"quad\"\nmaterial = \"white\"\ncorner = [0,0,0]\n"
                       "edge_u = [1,0,0]\nedge_v = [2,0,0]\n",
          18, "shapes[0].edge_v", "parallel"},
+        {"box max not above min",
+         kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [0, 2, 0]\n"
+                      "max = [1, 2, 1]\n",
+         17, "shapes[0].max", "must be greater than min on every axis; on y, max = 2 <= min = 2"},
+        {"box typo",
+         kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [0, 0, 0]\n"
+                      "max = [1, 1, 1]\nrotate = 15\n",
+         18, "shapes[0].rotate", "unknown field in a box; did you mean 'rotate_y'?"},
+        {"box rotate_y nan",
+         kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [0, 0, 0]\n"
+                      "max = [1, 1, 1]\nrotate_y = nan\n",
+         18, "shapes[0].rotate_y", "must be finite"},
+        {"box missing max",
+         kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [0, 0, 0]\n"
+                      "mx = [1, 1, 1]\n",
+         13, "shapes[0].max", "missing (required in shapes[0]); found 'mx': a typo?"},
+        {"box too large once rotated",
+         kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [0, 0, 0]\n"
+                      "max = [1e9, 1, 1e9]\nrotate_y = 45\n",
+         17, "shapes[0].max", "too large for single precision"},
+        {"box too large once moved",
+         kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [0, 0, 0]\n"
+                      "max = [1, 100, 1]\ntranslate = [0, 1e9, 0]\n",
+         18, "shapes[0].translate", "too large for single precision"},
+        {"box type typo", kValidHead + "[[shapes]]\ntype = \"bx\"\nmaterial = \"white\"\n", 14,
+         "shapes[0].type", "did you mean 'box'"},
         {"undefined material",
          kValidHead + "[[shapes]]\ntype = \"sphere\"\nmaterial = \"whte\"\ncenter = [0,0,0]\n"
                       "radius = 1\n",
@@ -200,6 +227,12 @@ TEST(SceneFile, ShippedScenesBuildWhatTheySay) {
     ASSERT_EQ(cornell.area_lights().size(), 1u);
     EXPECT_FLOAT_EQ(cornell.area_lights()[0].area, 130.0f * 105.0f);
     EXPECT_EQ(cornell.area_lights()[0].normal, Vec3(0, -1, 0));  // shines down
+    const Scene rtiow =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box_rtiow.toml");
+    EXPECT_EQ(rtiow.quads().size(), 6u + 2u * 6u);  // 5 walls and the lamp, two boxes
+    ASSERT_EQ(rtiow.area_lights().size(), 1u);
+    EXPECT_FLOAT_EQ(rtiow.area_lights()[0].area, 130.0f * 105.0f);
+    EXPECT_TRUE(rtiow.area_lights()[0].two_sided);
     const Scene whitted = load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/whitted_1979.toml");
     EXPECT_EQ(whitted.spheres().size(), 2u);
     EXPECT_EQ(whitted.point_lights().size(), 1u);
@@ -269,6 +302,12 @@ TEST(SceneFile, TyposInRequiredFieldsAndEmptyNamesAreExplained) {
                                     "center = [0,0,0]\nradius = 1\n")
                   .find("bad.toml:15: shapes[0].material: must name a material"),
               std::string::npos);
+    // A field already read is not taken for a typo of a missing one: a box's min is no 'max'.
+    const std::string no_max = error_of(kValidHead +
+                                        "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\n"
+                                        "min = [0, 0, 0]\n");
+    EXPECT_NE(no_max.find("shapes[0].max: missing (required in shapes[0])"), std::string::npos);
+    EXPECT_EQ(no_max.find("found"), std::string::npos) << no_max;
     // An integer beyond a double's exact range is read as the number it is (it used to read
     // as 0), and refused as too large for float geometry; so is a float beyond 1e9.
     for (const char* big : {"9007199254740993", "1e31"}) {
@@ -279,5 +318,71 @@ TEST(SceneFile, TyposInRequiredFieldsAndEmptyNamesAreExplained) {
                       .find("shapes[0].center: element 1 is too large"),
                   std::string::npos)
             << big;
+    }
+}
+
+TEST(SceneFile, BoxIsSixOutwardQuadsClosingTheRotatedMovedBox) {
+    const Scene scene = build_scene(parse_scene_string(
+        kValidHead + "[[shapes]]\ntype = \"box\"\nmaterial = \"white\"\nmin = [-1, 0, 2]\n"
+                     "max = [2, 3, 4.5]\nrotate_y = 30\ntranslate = [10, -5, 7]\n",
+        "box.toml"));
+    ASSERT_EQ(scene.quads().size(), 6u);
+    EXPECT_TRUE(scene.triangles().empty());
+
+    // The expected box, by the format's definition, in double: p -> R_y(30 deg) p + translate.
+    const double t = 30.0 * 3.14159265358979323846 / 180.0, c = std::cos(t), s = std::sin(t);
+    auto place = [&](double x, double y, double z) {
+        return glm::dvec3(c * x + s * z + 10.0, y - 5.0, -s * x + c * z + 7.0);
+    };
+    std::vector<glm::dvec3> corners;
+    for (double x : {-1.0, 2.0})
+        for (double y : {0.0, 3.0})
+            for (double z : {2.0, 4.5}) corners.push_back(place(x, y, z));
+    const glm::dvec3 center = place(0.5, 1.5, 3.25);
+    // The outward normals: the rotated axes, +-x' = +-(cos t, 0, -sin t), +-y, +-z'.
+    const std::vector<Vec3> normals = {
+        Vec3(float(c), 0, float(-s)), Vec3(float(-c), 0, float(s)), Vec3(0, 1, 0), Vec3(0, -1, 0),
+        Vec3(float(s), 0, float(c)),  Vec3(float(-s), 0, float(-c))};
+
+    std::vector<int> corner_uses(corners.size(), 0);
+    std::vector<int> normal_uses(normals.size(), 0);
+    double area = 0.0;
+    for (const Quad& q : scene.quads()) {
+        // Front side out of the box: the normal points from the centre towards the face.
+        const glm::dvec3 to_face = glm::dvec3(q.center()) - center;
+        EXPECT_GT(glm::dot(to_face, glm::dvec3(q.normal)), 0.0);
+        for (size_t k = 0; k < normals.size(); ++k)
+            if (glm::length(q.normal - normals[k]) < 1e-6f) ++normal_uses[k];
+        area += q.area();
+        // Each of the quad's four vertices is one of the box's rotated and moved corners.
+        for (const Vec3& v :
+             {q.corner, q.corner + q.edge_u, q.corner + q.edge_v, q.corner + q.edge_u + q.edge_v}) {
+            int found = -1;
+            for (size_t k = 0; k < corners.size(); ++k)
+                if (glm::length(glm::dvec3(v) - corners[k]) < 1e-5) found = static_cast<int>(k);
+            ASSERT_GE(found, 0) << "vertex " << v.x << " " << v.y << " " << v.z;
+            ++corner_uses[found];
+        }
+    }
+    // Closed: every corner is shared by three faces, and every direction has its face.
+    for (int uses : corner_uses) EXPECT_EQ(uses, 3);
+    for (int uses : normal_uses) EXPECT_EQ(uses, 1);
+    EXPECT_NEAR(area, 2.0 * (3 * 3 + 3 * 2.5 + 3 * 2.5), 1e-4);
+
+    // Rays from the centre leave through a face's back; rays towards the centre from outside
+    // meet a face's front.
+    for (int i = 0; i < 200; ++i) {
+        const float z = 1.0f - 2.0f * (static_cast<float>(i) + 0.5f) / 200.0f;
+        const float phi = 2.399963f * static_cast<float>(i);  // golden angle: spread directions
+        const float r = std::sqrt(1.0f - z * z);
+        const Vec3 d(r * std::cos(phi), r * std::sin(phi), z);
+        const Ray inside{Vec3(center), d, kInfinity};
+        const std::optional<Hit> out = scene.intersect(inside);
+        ASSERT_TRUE(out.has_value()) << "escaped through a gap, direction " << i;
+        EXPECT_FALSE(scene.interaction(inside, *out).front_face());
+        const Ray outside{Vec3(center) + 20.0f * d, -d, kInfinity};
+        const std::optional<Hit> in = scene.intersect(outside);
+        ASSERT_TRUE(in.has_value());
+        EXPECT_TRUE(scene.interaction(outside, *in).front_face());
     }
 }

@@ -1,8 +1,13 @@
 // compare: how far an image is from a reference.
 //
-//   build/bin/compare IMAGE REFERENCE [--out PREFIX] [--scale MAX]
+//   build/bin/compare IMAGE REFERENCE [--second-half REFERENCE2] [--out PREFIX] [--scale MAX]
 //
-// Prints mse, rmse, relmse and mae (common/metrics.h) as one JSON line. With --out, writes
+// Prints mse, rmse, relmse and mae (common/metrics.h) as one JSON line. With --second-half, the
+// reference is the mean of two independent renders (halves) A and B, and its own noise is
+// estimated and subtracted: the mean of two halves has per-pixel variance MSE(A, B) / 4, and
+// an image independent of both has MSE(image, reference) = its true MSE + that variance. The
+// line then adds reference_noise_mse, mse_corrected and rmse_corrected
+// (docs/performance.md). With --out, writes
 // PREFIX_error.png, the per-pixel error |image - reference| (RMS over the channels) in the
 // viridis colour map, dark for 0 and yellow for MAX (default: the 99th percentile of the error),
 // with the scale drawn beneath; and PREFIX_side_by_side.png: image | reference | error.
@@ -120,6 +125,10 @@ int main(int argc, char** argv) {
     double scale = 0.0;
     app.add_option("image", image_path, "The image to judge (EXR or PNG)")->required();
     app.add_option("reference", reference_path, "The reference (EXR or PNG)")->required();
+    std::string second_half;
+    app.add_option("--second-half", second_half,
+                   "A second, independent reference render: the reference becomes the mean of "
+                   "the two, and its own noise is subtracted from the MSE");
     app.add_option("--out", out, "Write PREFIX_error.png and PREFIX_side_by_side.png");
     app.add_option("--scale", scale,
                    "Error mapped to the top of the colour map (default: 99th "
@@ -138,13 +147,28 @@ int main(int argc, char** argv) {
     try {
         image = read_image(image_path);
         reference = read_image(reference_path);
+        double reference_noise = 0.0;
+        if (!second_half.empty()) {
+            const Image b = read_image(second_half);
+            reference_noise = compare_images(b, reference, second_half).mse / 4.0;
+            for (size_t i = 0; i < reference.pixels.size(); ++i)
+                reference.pixels[i] = 0.5f * (reference.pixels[i] + b.pixels[i]);
+        }
         m = compare_images(image, reference, image_path);
+        std::printf("{\"mse\": %.9g, \"rmse\": %.9g, \"relmse\": %.9g, \"mae\": %.9g", m.mse,
+                    m.rmse, m.relmse, m.mae);
+        if (!second_half.empty()) {
+            const double corrected = m.mse - reference_noise;
+            std::printf(
+                ", \"reference_noise_mse\": %.9g, \"mse_corrected\": %.9g, "
+                "\"rmse_corrected\": %.9g",
+                reference_noise, corrected, std::sqrt(std::max(0.0, corrected)));
+        }
+        std::printf("}\n");
     } catch (const std::exception& e) {
         std::cerr << "compare: error: " << e.what() << "\n";
         return 2;
     }
-    std::printf("{\"mse\": %.9g, \"rmse\": %.9g, \"relmse\": %.9g, \"mae\": %.9g}\n", m.mse, m.rmse,
-                m.relmse, m.mae);
     if (out.empty()) return 0;
 
     // Per-pixel error: RMS of the channel differences.

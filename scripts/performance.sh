@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The figures of docs/performance.md, measured on this machine:
+#   1. build/bin/bench_bvh: ray throughput, build time and memory against Embree 3, and lesson 4's
+#      render throughput on 1 and 2 threads (out/perf/bench.csv);
+#   2. the whole renderer against Blender's Cycles on scenes/cornell_box_rtiow.toml: RMSE against
+#      time, each renderer against a converged reference of its own, rendered as two independent
+#      halves whose own noise is estimated and subtracted (tools/compare --second-half).
+# Installs libembree-dev and blender (Debian's) first when missing; both are optional for the
+# suite itself. References are cached in out/perf/ and out/cycles/ (delete them to redo them).
+# Usage: scripts/performance.sh [--quick | --bench | --renders]
+#   --quick: bench_bvh --quick only (under a minute); --bench: bench_bvh only; --renders: the
+#   comparison with Cycles only. Environment: REF_SPP (default 512 per half), SPP_LIST.
+set -euo pipefail
+
+MODE="${1:-full}"
+case "$MODE" in
+    full | --quick | --bench | --renders) ;;
+    *) echo "usage: scripts/performance.sh [--quick | --bench | --renders]" >&2; exit 2 ;;
+esac
+
+source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
+install_missing_packages libembree-dev
+if [ "$MODE" = full ] || [ "$MODE" = --renders ]; then install_missing_packages blender; fi
+build_suite
+OUT="${LESSONS_OUT:-$ROOT/out}/perf"
+mkdir -p "$OUT"
+cd "$ROOT"
+BIN="$BUILD/bin"
+
+echo "== machine: $(nproc) threads, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(date +%F)"
+if [ "$MODE" = --quick ]; then
+    "$BIN/bench_bvh" --quick --csv "$OUT/bench_quick.csv"
+    exit 0
+fi
+if [ "$MODE" != --renders ]; then "$BIN/bench_bvh" --csv "$OUT/bench.csv"; fi
+[ "$MODE" = --bench ] && exit 0
+
+# ---- the whole renderer: lesson 4 and Cycles on the Cornell box of Ray Tracing in One Weekend ----
+SCENE=scenes/cornell_box_rtiow.toml
+REF_SPP="${REF_SPP:-512}"
+SPP_LIST="${SPP_LIST:-16 64 256}"
+field() { sed -n "s/.*\"$2\": \([0-9.eE+-]*\).*/\1/p" "$1" | head -1; }
+
+for seed in 1 2; do
+    ref="$OUT/ours_ref_${REF_SPP}spp_seed$seed"
+    [ -f "$ref.exr" ] && continue
+    echo "rendering our reference half $seed ($REF_SPP spp)"
+    "$BIN/04_rendering_equation" --scene "$SCENE" --spp "$REF_SPP" --seed "$seed" \
+        --out "$ref.tmp" --quiet
+    mv "$ref.tmp.exr" "$ref.exr"
+    rm -f "$ref.tmp.png"
+done
+REF_SPP="$REF_SPP" scripts/cycles_compare.sh --dir "$ROOT/out/cycles" "$SPP_LIST"
+
+CSV="$OUT/rtiow.csv"
+echo "renderer,spp,seconds,rmse_corrected,reference_noise_rmse" > "$CSV"
+for spp in $SPP_LIST; do
+    # Ours: the render time as the lesson reports it (rendering only, 2 threads).
+    img="$OUT/ours_${spp}spp.exr"
+    "$BIN/04_rendering_equation" --scene "$SCENE" --spp "$spp" --seed $((1000 + spp)) \
+        --out "$OUT/ours_${spp}spp" --report "$OUT/ours_${spp}spp.json" --quiet
+    seconds="$(field "$OUT/ours_${spp}spp.json" seconds)"
+    "$BIN/compare" "$img" "$OUT/ours_ref_${REF_SPP}spp_seed1.exr" \
+        --second-half "$OUT/ours_ref_${REF_SPP}spp_seed2.exr" > "$OUT/ours_${spp}spp_error.json"
+    echo "ours,$spp,$seconds,$(field "$OUT/ours_${spp}spp_error.json" rmse_corrected),$(
+        awk -v m="$(field "$OUT/ours_${spp}spp_error.json" reference_noise_mse)" 'BEGIN{print sqrt(m)}')" >> "$CSV"
+    # Cycles: the render time Blender measured around the render alone.
+    c="$ROOT/out/cycles/cycles_512px_${spp}spp_seed$((1000 + spp)).exr"
+    seconds="$(grep ",$(basename "$c")\$" "$ROOT/out/cycles/times.csv" | tail -1 | cut -d, -f2)"
+    "$BIN/compare" "$c" "$ROOT/out/cycles/ref_512px_${REF_SPP}spp_seed1.exr" \
+        --second-half "$ROOT/out/cycles/ref_512px_${REF_SPP}spp_seed2.exr" > "$OUT/cycles_${spp}spp_error.json"
+    echo "cycles,$spp,$seconds,$(field "$OUT/cycles_${spp}spp_error.json" rmse_corrected),$(
+        awk -v m="$(field "$OUT/cycles_${spp}spp_error.json" reference_noise_mse)" 'BEGIN{print sqrt(m)}')" >> "$CSV"
+done
+echo "== RMSE against time (each renderer against its own reference): $CSV"
+column -s, -t "$CSV"

@@ -1,0 +1,500 @@
+// bench_bvh: how fast the suite finds what a ray hits, beside Intel's Embree 3 when it is
+// installed, and how fast lesson 4 renders (docs/performance.md). A benchmark, not a test: it
+// prints figures and asserts nothing about them.
+//
+//   build/bin/bench_bvh [--quick] [--csv FILE] [--rays N]
+//
+// Scenes: the Cornell box as triangles, and a displaced sphere generated here at about 10k, 100k
+// and 1M triangles. Ray sets: coherent primary rays, shadow rays to a light, cosine-distributed
+// diffuse rays from the primary hits, uniformly random rays. Each set is traced with closest-hit
+// and any-hit queries, on 1 thread and on every thread; both libraries trace the same rays from
+// the same process. Build time and memory per triangle are measured at every size.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app.h"
+#include "lights.h"
+#include "rendering_equation.h"
+#include "rng.h"
+#include "sampling.h"
+#include "scene.h"
+#include "scene_file.h"
+#include "spawn.h"
+
+#ifdef LESSONS_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
+namespace lessons {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// ---- Scenes: triangles only, so that both libraries see exactly the same geometry ----
+
+struct TriangleMesh {
+    std::string name;
+    std::vector<Vec3> positions;
+    std::vector<Triangle> triangles;
+    Camera camera;
+    Vec3 light;  // a point light for the shadow rays
+};
+
+TriangleMesh cornell_box_mesh(const std::string& path) {
+    const Scene scene = load_scene(path);
+    TriangleMesh mesh{"cornell_box", {}, {}, scene.camera, {}};
+    for (const Quad& q : scene.quads()) {
+        const auto base = static_cast<uint32_t>(mesh.positions.size());
+        mesh.positions.push_back(q.corner);
+        mesh.positions.push_back(q.corner + q.edge_u);
+        mesh.positions.push_back(q.corner + q.edge_u + q.edge_v);
+        mesh.positions.push_back(q.corner + q.edge_v);
+        mesh.triangles.push_back({{base, base + 1, base + 2}, 0, false});
+        mesh.triangles.push_back({{base, base + 2, base + 3}, 0, false});
+    }
+    const auto base = static_cast<uint32_t>(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), scene.positions().begin(), scene.positions().end());
+    for (Triangle t : scene.triangles()) {
+        for (uint32_t& v : t.v) v += base;
+        t.material = 0;
+        mesh.triangles.push_back(t);
+    }
+    // The shadow rays' target: just below the middle of the lamp (on it, a ray could end on
+    // the lamp or stop just short of it, depending on rounding).
+    mesh.light = scene.bounds().centroid();
+    if (!scene.area_lights().empty()) {
+        const AreaLight& lamp = scene.area_lights()[0];
+        mesh.light = lamp.center +
+                     1e-3f * glm::length(scene.bounds().max - scene.bounds().min) * lamp.normal;
+    }
+    return mesh;
+}
+
+// A cube subdivided n x n per face, pushed onto the unit sphere and displaced along its normal
+// by a sum of sines: 12 n^2 triangles, none degenerate, with bumps that shadow each other.
+TriangleMesh displaced_sphere(int n) {
+    TriangleMesh mesh;
+    mesh.name = "sphere_" + std::to_string(12 * n * n);
+    auto radius = [](const Vec3& d) {
+        return 1.0f + 0.12f * std::sin(9.0f * d.x) * std::sin(11.0f * d.y) * std::sin(10.0f * d.z) +
+               0.04f * std::sin(37.0f * d.x + 23.0f * d.y) * std::sin(41.0f * d.z);
+    };
+    const Vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int face = 0; face < 6; ++face) {
+        const Vec3 normal = axes[face / 2] * (face % 2 ? -1.0f : 1.0f);
+        const Vec3 u = axes[(face / 2 + 1) % 3] * (face % 2 ? -1.0f : 1.0f);
+        const Vec3 v = axes[(face / 2 + 2) % 3];
+        const auto base = static_cast<uint32_t>(mesh.positions.size());
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                const Vec3 d =
+                    glm::normalize(normal + (2.0f * i / n - 1.0f) * u + (2.0f * j / n - 1.0f) * v);
+                mesh.positions.push_back(radius(d) * d);
+            }
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const uint32_t a = base + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+                mesh.triangles.push_back({{a, b, d}, 0, false});
+                mesh.triangles.push_back({{a, d, c}, 0, false});
+            }
+    }
+    // Shared cube edges repeat their vertices; the mesh stays closed because the positions are
+    // computed identically on both faces.
+    mesh.camera = Camera(Vec3(0.3f, 0.8f, -3.2f), Vec3(0.0f), Vec3(0, 1, 0), 45.0f, 1.0f);
+    mesh.light = Vec3(2.0f, 3.0f, -2.0f);
+    return mesh;
+}
+
+Scene suite_scene(const TriangleMesh& mesh) {
+    Scene scene;
+    Material white;
+    scene.add_material(white);
+    scene.add_mesh(mesh.positions, {}, {}, mesh.triangles);
+    scene.commit();
+    return scene;
+}
+
+// ---- Ray sets ----
+
+struct RaySet {
+    std::string name;
+    std::vector<Ray> rays;
+};
+
+std::vector<RaySet> make_ray_sets(const Scene& scene, const TriangleMesh& mesh, size_t count) {
+    const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
+    RaySet primary{"primary", {}};
+    primary.rays.reserve(count);
+    for (int y = 0; y < side && primary.rays.size() < count; ++y)
+        for (int x = 0; x < side && primary.rays.size() < count; ++x)
+            primary.rays.push_back(mesh.camera.generate_ray(x + 0.5f, y + 0.5f, side, side));
+
+    std::vector<SurfaceInteraction> hits;
+    for (const Ray& r : primary.rays)
+        if (const auto h = scene.intersect(r)) hits.push_back(scene.interaction(r, *h));
+
+    RaySet shadow{"shadow", {}}, diffuse{"diffuse", {}}, random{"random", {}};
+    Rng rng(2026, 11, 22);
+    for (size_t i = 0; !hits.empty() && shadow.rays.size() < count; ++i) {
+        const SurfaceInteraction& si = hits[i % hits.size()];
+        const SurfacePoint from{si.p, si.p_error, si.front_face() ? si.n_geo : -si.n_geo};
+        shadow.rays.push_back(spawn_ray_to(from, mesh.light));
+        const Frame frame(from.n);
+        diffuse.rays.push_back(spawn_ray(
+            from, frame.to_world(sample_cosine_hemisphere(Vec2(rng.uniform(), rng.uniform())))));
+    }
+    const Bounds3 box = scene.bounds();
+    for (size_t i = 0; i < count; ++i) {
+        const Vec3 u(rng.uniform(), rng.uniform(), rng.uniform());
+        const Vec3 origin = box.min + u * (box.max - box.min);
+        random.rays.push_back(
+            Ray{origin, sample_uniform_sphere(Vec2(rng.uniform(), rng.uniform()))});
+    }
+    return {primary, shadow, diffuse, random};
+}
+
+// ---- Timing: trace every ray of a set on `threads` threads; returns Mrays/s ----
+
+struct Trace {
+    double mrays = 0.0;
+    size_t hits = 0;
+};
+
+Trace time_trace(const std::vector<Ray>& rays, int threads,
+                 const std::function<size_t(size_t, size_t)>& trace_range) {
+    // Best of a few repetitions, each at least ~0.2 s of work in all.
+    Trace best;
+    for (int rep = 0; rep < 3; ++rep) {
+        std::vector<size_t> hits(threads, 0);
+        const auto start = Clock::now();
+        std::vector<std::thread> pool;
+        const size_t chunk = (rays.size() + threads - 1) / threads;
+        for (int t = 0; t < threads; ++t)
+            pool.emplace_back([&, t] {
+                const size_t begin = std::min(rays.size(), t * chunk);
+                const size_t end = std::min(rays.size(), begin + chunk);
+                hits[t] = trace_range(begin, end);
+            });
+        for (std::thread& th : pool) th.join();
+        const double s = seconds_since(start);
+        const double mrays = rays.size() / s * 1e-6;
+        if (mrays > best.mrays) best = {mrays, 0};
+        best.hits = 0;
+        for (size_t h : hits) best.hits += h;
+    }
+    return best;
+}
+
+#ifdef LESSONS_HAVE_EMBREE
+// ---- Embree 3: the same triangles, default build, rtcIntersect1 / rtcOccluded1 ----
+
+ssize_t g_embree_bytes = 0;
+
+bool embree_memory_monitor(void*, ssize_t bytes, bool) {
+    g_embree_bytes += bytes;
+    return true;
+}
+
+struct EmbreeScene {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    double build_ms = 0.0;
+    double bytes = 0.0;
+
+    EmbreeScene(const TriangleMesh& mesh, int build_threads) {
+        const std::string config = "threads=" + std::to_string(build_threads);
+        device = rtcNewDevice(config.c_str());
+        rtcSetDeviceMemoryMonitorFunction(device, embree_memory_monitor, nullptr);
+        g_embree_bytes = 0;
+        scene = rtcNewScene(device);
+        RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                              mesh.positions.size()));
+        for (size_t i = 0; i < mesh.positions.size(); ++i)
+            for (int k = 0; k < 3; ++k) v[3 * i + k] = mesh.positions[i][k];
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(unsigned), mesh.triangles.size()));
+        for (size_t i = 0; i < mesh.triangles.size(); ++i)
+            for (int k = 0; k < 3; ++k) idx[3 * i + k] = mesh.triangles[i].v[k];
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(scene, geometry);
+        rtcReleaseGeometry(geometry);
+        const auto start = Clock::now();
+        rtcCommitScene(scene);
+        build_ms = seconds_since(start) * 1e3;
+        bytes = static_cast<double>(g_embree_bytes);  // geometry buffers and BVH
+    }
+    ~EmbreeScene() {
+        rtcReleaseScene(scene);
+        rtcReleaseDevice(device);
+    }
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    size_t closest(const std::vector<Ray>& rays, size_t begin, size_t end) const {
+        size_t hits = 0;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (size_t i = begin; i < end; ++i) {
+            const Ray& r = rays[i];
+            RTCRayHit rh;
+            rh.ray.org_x = r.origin.x, rh.ray.org_y = r.origin.y, rh.ray.org_z = r.origin.z;
+            rh.ray.dir_x = r.dir.x, rh.ray.dir_y = r.dir.y, rh.ray.dir_z = r.dir.z;
+            rh.ray.tnear = 0.0f;
+            rh.ray.tfar = r.t_max;
+            rh.ray.time = 0.0f;
+            rh.ray.mask = ~0u;
+            rh.ray.id = 0;
+            rh.ray.flags = 0;
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(scene, &context, &rh);
+            hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+        return hits;
+    }
+    size_t any(const std::vector<Ray>& rays, size_t begin, size_t end) const {
+        size_t hits = 0;
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (size_t i = begin; i < end; ++i) {
+            const Ray& r = rays[i];
+            RTCRay ray;
+            ray.org_x = r.origin.x, ray.org_y = r.origin.y, ray.org_z = r.origin.z;
+            ray.dir_x = r.dir.x, ray.dir_y = r.dir.y, ray.dir_z = r.dir.z;
+            ray.tnear = 0.0f;
+            ray.tfar = r.t_max;
+            ray.time = 0.0f;
+            ray.mask = ~0u;
+            ray.id = 0;
+            ray.flags = 0;
+            rtcOccluded1(scene, &context, &ray);
+            hits += ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
+        }
+        return hits;
+    }
+};
+#endif
+
+// ---- Output: a table on stdout and, with --csv, one CSV row per measurement ----
+
+struct Row {
+    std::string scene;
+    size_t triangles = 0;
+    std::string rays;  // ray set, or "build" / "render"
+    std::string query;
+    int threads = 1;
+    double ours = 0.0;             // Mrays/s (build: ms; render: Msamples/s)
+    std::optional<double> embree;  // the same for Embree
+    std::string note;              // e.g. bytes per triangle, hit counts
+};
+
+std::string fixed(double v, int digits) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+void print_row(const Row& r) {
+    std::string ratio = "-", embree = "-";
+    if (r.embree) {
+        embree = fixed(*r.embree, 2);
+        ratio = fixed(r.rays == "build" ? *r.embree / r.ours : r.ours / *r.embree, 2);
+    }
+    std::printf("%-15s %9zu %-8s %-8s %2d %10s %10s %6s  %s\n", r.scene.c_str(), r.triangles,
+                r.rays.c_str(), r.query.c_str(), r.threads, fixed(r.ours, 2).c_str(),
+                embree.c_str(), ratio.c_str(), r.note.c_str());
+    std::fflush(stdout);
+}
+
+void write_csv(const std::string& path, const std::vector<Row>& rows) {
+    std::ofstream out(path);
+    out << "scene,triangles,rays,query,threads,ours_mrays,embree_mrays,ratio,ours_value,"
+           "embree_value,unit,note\n";
+    for (const Row& r : rows) {
+        const bool ray_row = r.rays != "build" && r.rays != "render";
+        out << r.scene << ',' << r.triangles << ',' << r.rays << ',' << r.query << ',' << r.threads
+            << ',';
+        if (ray_row) {
+            out << fixed(r.ours, 3) << ',' << (r.embree ? fixed(*r.embree, 3) : "") << ','
+                << (r.embree ? fixed(r.ours / *r.embree, 3) : "") << ",,,Mrays/s";
+        } else {
+            const bool build = r.rays == "build";
+            out << ",,"
+                << (r.embree ? fixed(build ? *r.embree / r.ours : r.ours / *r.embree, 3) : "")
+                << ',' << fixed(r.ours, 3) << ',' << (r.embree ? fixed(*r.embree, 3) : "") << ','
+                << (build ? "ms" : "Msamples/s");
+        }
+        out << ",\"" << r.note << "\"\n";
+    }
+    std::cout << "wrote " << path << "\n";
+}
+
+int run(int argc, char** argv) {
+    bool quick = false;
+    std::string csv;
+    size_t ray_count = 0;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--quick") {
+            quick = true;
+        } else if (a == "--csv" && i + 1 < argc) {
+            csv = argv[++i];
+        } else if (a == "--rays" && i + 1 < argc) {
+            ray_count = std::stoul(argv[++i]);
+        } else {
+            std::cerr << "usage: bench_bvh [--quick] [--csv FILE] [--rays N]\n";
+            return a == "--help" || a == "-h" ? 0 : 2;
+        }
+    }
+    if (ray_count == 0) ray_count = quick ? 200000 : 1000000;
+    const int all_threads = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<int> thread_counts = {1};
+    if (all_threads > 1) thread_counts.push_back(all_threads);
+
+#ifdef LESSONS_HAVE_EMBREE
+    std::printf("Embree %s, ", RTC_VERSION_STRING);
+#else
+    std::printf("Embree: not built in (install libembree-dev and re-run cmake), ");
+#endif
+    std::printf("%d hardware threads, %zu rays per set%s\n\n", all_threads, ray_count,
+                quick ? " (--quick)" : "");
+    std::printf("%-15s %9s %-8s %-8s %2s %10s %10s %6s  %s\n", "scene", "triangles", "rays",
+                "query", "th", "ours", "embree", "ratio", "");
+    std::vector<Row> rows;
+    auto add = [&](const Row& r) {
+        print_row(r);
+        rows.push_back(r);
+    };
+
+    std::vector<TriangleMesh> meshes;
+    meshes.push_back(
+        cornell_box_mesh(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml"));
+    for (int n : {29, 91, 289}) meshes.push_back(displaced_sphere(n));  // 10k, 100k, 1M
+
+    // Build time and memory at every size (the value columns: milliseconds; ratio = Embree's
+    // time over ours, so above 1 means ours builds faster).
+    for (const TriangleMesh& mesh : meshes) {
+        const auto start = Clock::now();
+        const Scene scene = suite_scene(mesh);
+        const double ms = seconds_since(start) * 1e3;
+        const double per_tri = static_cast<double>(scene.geometry_bytes()) / mesh.triangles.size();
+        Row r{
+            mesh.name,
+            mesh.triangles.size(),
+            "build",
+            "-",
+            1,
+            ms,
+            std::nullopt,
+            "ours " + fixed(per_tri, 1) + " B/tri (BVH " +
+                fixed(static_cast<double>(scene.bvh().memory_bytes()) / mesh.triangles.size(), 1) +
+                ")"};
+#ifdef LESSONS_HAVE_EMBREE
+        {
+            const EmbreeScene e(mesh, 1);
+            r.embree = e.build_ms;
+            r.note += ", embree " + fixed(e.bytes / mesh.triangles.size(), 1) + " B/tri";
+        }
+        if (all_threads > 1) {
+            const EmbreeScene e(mesh, all_threads);
+            r.note += ", embree on " + std::to_string(all_threads) + " threads " +
+                      fixed(e.build_ms, 1) + " ms";
+        }
+#endif
+        add(r);
+    }
+
+    // Ray throughput.
+    for (const TriangleMesh& mesh : meshes) {
+        if (mesh.triangles.size() < 50000 && mesh.name != "cornell_box")
+            continue;  // 10k: build only
+        const Scene scene = suite_scene(mesh);
+        const std::vector<RaySet> sets = make_ray_sets(scene, mesh, ray_count);
+#ifdef LESSONS_HAVE_EMBREE
+        const EmbreeScene embree(mesh, all_threads);
+#endif
+        for (const RaySet& set : sets) {
+            for (const std::string query : {"closest", "any"}) {
+                for (int threads : thread_counts) {
+                    const bool closest = query == "closest";
+                    const Trace ours = time_trace(set.rays, threads, [&](size_t begin, size_t end) {
+                        size_t hits = 0;
+                        for (size_t i = begin; i < end; ++i)
+                            hits += closest ? scene.intersect(set.rays[i]).has_value()
+                                            : scene.occluded(set.rays[i]);
+                        return hits;
+                    });
+                    Row r{mesh.name,    mesh.triangles.size(),
+                          set.name,     query,
+                          threads,      ours.mrays,
+                          std::nullopt, "hits ours " + std::to_string(ours.hits)};
+#ifdef LESSONS_HAVE_EMBREE
+                    const Trace theirs =
+                        time_trace(set.rays, threads, [&](size_t begin, size_t end) {
+                            return closest ? embree.closest(set.rays, begin, end)
+                                           : embree.any(set.rays, begin, end);
+                        });
+                    r.embree = theirs.mrays;
+                    r.note += ", embree " + std::to_string(theirs.hits);
+#endif
+                    add(r);
+                }
+            }
+        }
+    }
+
+    // Lesson 4 on the Cornell box: samples and rays per second, 1 and all threads.
+    {
+        const Scene scene =
+            load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {256, 256});
+        const LightSampler lights(scene);
+        const Model model = make_path_tracing_model(scene, lights, {});
+        double single = 0.0;
+        for (int threads : thread_counts) {
+            RenderSettings settings;
+            settings.progress = false;
+            settings.threads = threads;
+            const int spp = quick ? 8 : 32;
+            const RenderResult result = render_scene(scene, model, spp, settings);
+            const double samples = 256.0 * 256.0 * spp / result.stats.seconds * 1e-6;
+            if (threads == 1) single = samples;
+            Row r{"cornell_box",
+                  0,
+                  "render",
+                  "lesson4",
+                  threads,
+                  samples,
+                  std::nullopt,
+                  fixed(result.stats.rays / result.stats.seconds * 1e-6, 2) + " Mrays/s, " +
+                      fixed(result.stats.seconds, 2) + " s for " + std::to_string(spp) +
+                      " spp at 256x256"};
+            if (threads > 1) r.note += ", scaling " + fixed(samples / single, 2) + "x";
+            add(r);
+        }
+    }
+    if (!csv.empty()) write_csv(csv, rows);
+    return 0;
+}
+
+}  // namespace
+}  // namespace lessons
+
+int main(int argc, char** argv) {
+    return lessons::run(argc, argv);
+}
