@@ -45,9 +45,9 @@ int bin_of(float centroid, float lo, float scale) {
     return static_cast<int>(b);
 }
 
-// Collapses binary node b into a 4-wide node (or, for a leaf, a leaf slot); returns the slot's
+// Collapses binary node b into a wide node (or, for a leaf, a leaf slot); returns the slot's
 // code for the parent. Each node adopts the two children of its largest interior child until it
-// has four: large boxes are the ones rays enter most often (the SAH's reasoning).
+// has eight: large boxes are the ones rays enter most often (the SAH's reasoning).
 // Leaves are laid out in the final primitive order as they are reached (depth first), each
 // starting at a multiple of kLeafAlignment: order[] is filled here from the build's order.
 struct Collapse {
@@ -224,7 +224,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
     prim_index_.reserve(n + n / 2);
     Collapse collapse{binary, build_order, nodes_, prim_index_};
 
-    // The root is always a 4-wide node, even over a single leaf.
+    // The root is always a wide node, even over a single leaf.
     nodes_.reserve(binary.size() / 3 + 1);
     if (binary[0].count > 0) {
         nodes_.emplace_back();

@@ -8,16 +8,16 @@
 //     cost = C_trav + (A_left N_left + A_right N_right) / A_node      (C_isect = 1)
 // is taken. A node of at most four primitives is always a leaf: a leaf's triangles are tested
 // together, four at once (TriangleBlock), for about the cost of one test.
-// Layout: the binary tree is then collapsed into a 4-wide one (Dammertz et al., "Shallow Bounding
-// Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", 2008; Embree's BVH4): a node
-// holds the boxes of up to four children side by side, the x minima of all four, then their x
-// maxima, and so on, so that one vector instruction tests one slab of four boxes. Leaves are not
-// nodes: a child slot names its primitives directly, so reaching a leaf costs no extra fetch.
-// A node is 128 bytes, two cache lines, aligned.
+// Layout: the binary tree is then collapsed into an 8-wide one (Dammertz et al., "Shallow
+// Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", 2008; Embree's
+// BVH8): a node holds the boxes of up to eight children side by side, the x minima of all eight,
+// then their x maxima, and so on, so that one vector instruction tests one slab of eight boxes.
+// Leaves are not nodes: a child slot names its primitives directly, so reaching a leaf costs no
+// extra fetch. A node is 256 bytes, four cache lines, aligned.
 // Primitives: callbacks receive a position in primitive_order(), not the caller's index; the
 // caller stores its primitive data in that order (Scene does), so a leaf's primitives lie side
 // by side in memory.
-// Traversal: front to back. A node's four boxes are tested at once; the children hit are pushed
+// Traversal: front to back. A node's eight boxes are tested at once; the children hit are pushed
 // farthest first, so the nearest is visited next. A closest-hit query drops stacked subtrees that
 // start beyond the nearest hit found so far; an any-hit query stops at the first hit.
 #pragma once
@@ -38,7 +38,7 @@ constexpr int kBvhWidth = 8;
 using BoxLanes = float __attribute__((vector_size(4 * kBvhWidth)));
 
 struct alignas(64) BvhNode {
-    // bounds[2 axis] holds the four children's minima along the axis, bounds[2 axis + 1] their
+    // bounds[2 axis] holds the eight children's minima along the axis, bounds[2 axis + 1] their
     // maxima. An unused slot has an empty box (min +inf, max -inf), which no ray enters.
     BoxLanes bounds[6];
     // Interior child: its node index. Leaf: kLeafBit | (count - 1) << kCountShift | first.
@@ -72,8 +72,8 @@ struct BoxRay {
     }
 };
 
-// Entry distances of the ray into a node's four boxes within (0, t_max), and a 4-bit mask of the
-// boxes it enters (bit i: child i). The slab test, on four boxes at once. Conservative (Ize,
+// Entry distances of the ray into a node's eight boxes within (0, t_max), and an 8-bit mask of the
+// boxes it enters (bit i: child i). The slab test, on eight boxes at once. Conservative (Ize,
 // "Robust BVH Ray Traversal", JCGT 2013): the exit distance is enlarged by 1 + 2 gamma(3) so that
 // rounding never culls a box the ray grazes, and a 0 * inf = NaN from a ray lying in a slab plane
 // is ignored by the comparisons (treated as inside): `t0 > t_near ? t0 : t_near` keeps t_near
@@ -157,7 +157,9 @@ private:
 
 template <class IntersectFn>
 bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
-    if (nodes_.empty()) return false;
+    // A ray with a NaN or infinite coordinate would enter every box, empty slots included
+    // (the slab test ignores NaN): it hits nothing.
+    if (nodes_.empty() || !is_finite(ray.origin) || !is_finite(ray.dir)) return false;
     const BoxRay box_ray(ray);
     float t_max = ray.t_max;
     bool found = false;
@@ -177,13 +179,16 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
             const BoxHits hits = box_entries(box_ray, node, t_max);
             if (hits.mask != 0) {
                 // Visit the nearest child next; push the others farthest first, so that they
-                // are popped in order of distance (an insertion sort of at most three).
+                // are popped in order of distance (an insertion sort of at most seven, among
+                // this node's children only: the traversal stays depth first, which bounds the
+                // stack).
+                const int base = top;  // this node's entries start here
                 int nearest = std::countr_zero(hits.mask);
                 for (unsigned m = hits.mask & (hits.mask - 1); m != 0; m &= m - 1) {
                     int i = std::countr_zero(m);
                     if (hits.t[i] < hits.t[nearest]) std::swap(i, nearest);
                     int j = top++;
-                    for (; j > 0 && stack[j - 1].t < hits.t[i]; --j) stack[j] = stack[j - 1];
+                    for (; j > base && stack[j - 1].t < hits.t[i]; --j) stack[j] = stack[j - 1];
                     stack[j] = {node.child[i], hits.t[i]};
                 }
                 current = node.child[nearest];
@@ -201,7 +206,7 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
 
 template <class OccludedFn>
 bool Bvh::any_hit(const Ray& ray, OccludedFn&& occluded) const {
-    if (nodes_.empty()) return false;
+    if (nodes_.empty() || !is_finite(ray.origin) || !is_finite(ray.dir)) return false;
     const BoxRay box_ray(ray);
     uint32_t stack[kStackSize];
     int top = 0;

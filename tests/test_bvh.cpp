@@ -105,7 +105,7 @@ TEST(Bvh, EveryPrimitiveIsInExactlyOneLeafAndBoxesNest) {
     const Scene scene = random_scene(9, 50, 50, 5000, 10.0f);
     const Bvh& bvh = scene.bvh();
     std::vector<int> seen(scene.primitive_count(), 0);
-    // Walk the 4-wide tree from the root: each slot's box lies inside its parent's box.
+    // Walk the 8-wide tree from the root: each slot's box lies inside its parent's box.
     std::vector<std::pair<uint32_t, Bounds3>> todo = {{0u, bvh.bounds()}};
     int nodes = 0;
     while (!todo.empty()) {

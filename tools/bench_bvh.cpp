@@ -10,9 +10,11 @@
 // and any-hit queries, on 1 thread and on every thread; both libraries trace the same rays from
 // the same process. Build time and memory per triangle are measured at every size.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -201,7 +203,7 @@ Trace time_trace(const std::vector<Ray>& rays, int threads,
 #ifdef LESSONS_HAVE_EMBREE
 // ---- Embree 3: the same triangles, default build, rtcIntersect1 / rtcOccluded1 ----
 
-ssize_t g_embree_bytes = 0;
+std::atomic<ssize_t> g_embree_bytes{0};  // Embree's threads report here
 
 bool embree_memory_monitor(void*, ssize_t bytes, bool) {
     g_embree_bytes += bytes;
@@ -237,7 +239,7 @@ struct EmbreeScene {
         const auto start = Clock::now();
         rtcCommitScene(scene);
         build_ms = seconds_since(start) * 1e3;
-        bytes = static_cast<double>(g_embree_bytes);  // geometry buffers and BVH
+        bytes = static_cast<double>(g_embree_bytes.load());  // geometry buffers and BVH
     }
     ~EmbreeScene() {
         rtcReleaseScene(scene);
@@ -356,7 +358,13 @@ int run(int argc, char** argv) {
         } else if (a == "--csv" && i + 1 < argc) {
             csv = argv[++i];
         } else if (a == "--rays" && i + 1 < argc) {
-            ray_count = std::stoul(argv[++i]);
+            char* end = nullptr;
+            const char* text = argv[++i];
+            ray_count = std::strtoul(text, &end, 10);
+            if (*end != '\0' || ray_count == 0) {
+                std::cerr << "bench_bvh: error: --rays: not a positive integer: '" << text << "'\n";
+                return 2;
+            }
         } else {
             std::cerr << "usage: bench_bvh [--quick] [--csv FILE] [--rays N]\n";
             return a == "--help" || a == "-h" ? 0 : 2;
