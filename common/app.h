@@ -55,6 +55,7 @@ struct CommonOptions {
     std::string variance;            // prefix of an EXR of the per-pixel variance of the mean
     std::vector<std::string> naive;  // naive methods to demonstrate (docs/robustness.md)
     float clamp = 0.0f;              // > 0: clamp sample luminance (biased)
+    std::string sampler = "independent";  // or "kronecker" (RenderSettings::kronecker)
 };
 
 // Parses the command line, renders, writes <out>.exr, <out>.png and the report.

@@ -67,7 +67,9 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
                     for (int x = x0; x < x1; ++x) {
                         const size_t pixel = static_cast<size_t>(y) * width + x;
                         for (int s = sample_begin; s < sample_end; ++s) {
-                            Rng rng(settings.seed, pixel, static_cast<uint64_t>(s));
+                            Rng rng = settings.kronecker
+                                          ? Rng::kronecker(settings.seed, pixel, s)
+                                          : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
                             const float jx = settings.jitter ? rng.uniform() : 0.5f;
                             const float jy = settings.jitter ? rng.uniform() : 0.5f;
                             const Ray ray = camera.generate_ray(x + jx, y + jy, width, height);

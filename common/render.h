@@ -36,6 +36,7 @@ struct RenderSettings {
     // with the tiles in progress finished. Pixels of untouched tiles then lack this pass.
     const std::atomic<bool>* stop = nullptr;
     float clamp = 0.0f;  // > 0: clamp every sample's luminance to this (biased; Film::set_clamp)
+    bool kronecker = false;  // samples from Rng::kronecker (stratified) instead of independent
     // Progress shared by several render calls (passes of one render); else each call has its own.
     Progress* shared_progress = nullptr;
 };

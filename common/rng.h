@@ -2,6 +2,9 @@
 // sample so that an image does not depend on how pixels are shared among threads.
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace lessons {
@@ -30,6 +33,21 @@ public:
     }
     explicit Rng(uint64_t seed = 0) : Rng(seed, 0, 0) {}
 
+    // The same triple, drawn from a randomised Kronecker (Richtmyer) sequence instead: value d
+    // of sample i is frac(shift_d + i alpha_d), with alpha_d = frac(sqrt(p_d)) for the d-th
+    // prime and shift_d uniform, hashed from (seed, pixel, d) (a Cranley-Patterson rotation).
+    // Every value is still uniform on [0, 1), so estimates stay unbiased, but the samples of one
+    // pixel spread evenly over each dimension instead of clumping. Values past kKroneckerDims
+    // come from PCG32. (--sampler kronecker; docs/performance.md.)
+    static Rng kronecker(uint64_t seed, uint64_t pixel_index, uint64_t sample_index) {
+        Rng rng(seed, pixel_index, sample_index);
+        rng.kronecker_ = true;
+        rng.sample_ = sample_index;
+        rng.key_ = mix_bits(seed ^ mix_bits(pixel_index ^ 0xd1b54a32d192ed03ULL));
+        return rng;
+    }
+    static constexpr int kKroneckerDims = 64;
+
     uint32_t next_u32() {
         const uint64_t old = state_;
         state_ = old * 6364136223846793005ULL + inc_;
@@ -40,11 +58,43 @@ public:
 
     // Uniform in [0, 1): the top 24 bits scaled by 2^-24, so the largest value is 1 - 2^-24,
     // exactly representable and strictly below 1.
-    float uniform() { return static_cast<float>(next_u32() >> 8) * 0x1p-24f; }
+    float uniform() {
+        if (kronecker_ && dimension_ < kKroneckerDims) return kronecker_value(dimension_++);
+        return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
+    }
 
 private:
+    float kronecker_value(int d) const {
+        const double shift =
+            static_cast<double>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 11) * 0x1p-53;
+        const double alpha = kronecker_alpha(d);
+        double v = shift + static_cast<double>(sample_ % (uint64_t{1} << 40)) * alpha;
+        v -= std::floor(v);
+        return std::min(static_cast<float>(v), 0x1.fffffep-1f);  // never 1 after rounding
+    }
+    // frac(sqrt(p)) for the first kKroneckerDims primes: irrational and independent over the
+    // rationals, so every pair of dimensions is equidistributed.
+    static double kronecker_alpha(int d) {
+        static const auto alphas = [] {
+            std::array<double, kKroneckerDims> a{};
+            int found = 0;
+            for (int n = 2; found < kKroneckerDims; ++n) {
+                bool prime = true;
+                for (int k = 2; k * k <= n; ++k) prime = prime && n % k != 0;
+                if (!prime) continue;
+                const double r = std::sqrt(static_cast<double>(n));
+                a[found++] = r - std::floor(r);
+            }
+            return a;
+        }();
+        return alphas[d];
+    }
+
     uint64_t state_ = 0;
     uint64_t inc_ = 1;
+    bool kronecker_ = false;
+    int dimension_ = 0;
+    uint64_t sample_ = 0, key_ = 0;
 };
 
 }  // namespace lessons

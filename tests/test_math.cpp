@@ -1,6 +1,7 @@
 // Frames, the random-number generator and bounding boxes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "bounds.h"
@@ -57,6 +58,41 @@ TEST(Rng, DifferentPixelsAndSamplesGiveDifferentSequences) {
     // 10^4 draws from 2^32 values: a collision is unlikely (p ~ 1.2%); allow a few.
     EXPECT_GE(first_values.size(), 9995u);
     EXPECT_EQ(Rng(5, 1, 2).next_u32(), Rng(5, 1, 2).next_u32());
+}
+
+TEST(Rng, KroneckerSamplesOfAPixelSpreadEvenly) {
+    // 64 samples of one pixel: in each of the first four dimensions the Kronecker values leave no
+    // gap in [0, 1) wider than 4/64 (three-gap theorem: frac(sqrt(p)) has small continued-fraction
+    // terms); independent values leave gaps of about ln(64)/64 ~ 4.2/64 on average, often far more.
+    int independent_wide = 0;
+    for (uint64_t pixel = 0; pixel < 50; ++pixel) {
+        std::vector<std::vector<float>> kronecker(4), independent(4);
+        for (uint64_t s = 0; s < 64; ++s) {
+            Rng k = Rng::kronecker(3, pixel, s), r(3, pixel, s);
+            for (int d = 0; d < 4; ++d) {
+                kronecker[d].push_back(k.uniform());
+                independent[d].push_back(r.uniform());
+            }
+        }
+        auto widest_gap = [](std::vector<float> v) {
+            std::sort(v.begin(), v.end());
+            float gap = v.front() + 1.0f - v.back();  // around the circle
+            for (size_t i = 1; i < v.size(); ++i) gap = std::max(gap, v[i] - v[i - 1]);
+            return gap;
+        };
+        for (int d = 0; d < 4; ++d) {
+            for (float u : kronecker[d]) {
+                ASSERT_GE(u, 0.0f);
+                ASSERT_LT(u, 1.0f);
+            }
+            EXPECT_LT(widest_gap(kronecker[d]), 4.0f / 64.0f) << "pixel " << pixel << " dim " << d;
+            independent_wide += widest_gap(independent[d]) >= 4.0f / 64.0f;
+        }
+    }
+    EXPECT_GT(independent_wide, 100);  // of 200: the test tells the two apart
+    // Past kKroneckerDims the values come from PCG32, and the same triple repeats exactly.
+    Rng a = Rng::kronecker(1, 2, 3), b = Rng::kronecker(1, 2, 3);
+    for (int i = 0; i < Rng::kKroneckerDims + 10; ++i) ASSERT_EQ(a.uniform(), b.uniform());
 }
 
 TEST(Bounds, SurfaceAreaAndUnion) {

@@ -13,7 +13,8 @@ using namespace lessons;
 
 namespace {
 
-// z-tests in this file (furnace 4 x 2 x 2 + 4, point light 2, roulette 1, lesson 3 vs 4 1).
+// z-tests in this file (furnace 4 x 2 x 2 + 4, point light 2, roulette 1, lesson 3 vs 4 1,
+// Kronecker sampler 4).
 const double kSignificance = test::sidak(0.01, 30);
 
 test::MeanAndError estimate(const Scene& scene, const Ray& ray, const PathOptions& options, int n,
@@ -182,4 +183,31 @@ TEST(RenderingEquation, LessonThreeEqualsEmissionPlusTheFirstBounce) {
     for (size_t i = 0; i < first_two.pixels.size(); ++i)
         EXPECT_NEAR(first_two.pixels[i].x + path.layers[2].pixels[i].x, path.image.pixels[i].x,
                     1e-4f * path.image.pixels[i].x + 1e-6f);
+}
+
+TEST(RenderingEquation, TheKroneckerSamplerIsUnbiased) {
+    // Rng::kronecker (--sampler kronecker) correlates the samples of one pixel, never their
+    // distribution: each value is uniform because of the pixel's random shift. Pixels have
+    // independent shifts, so pixel means are independent: the z-test runs over pixels.
+    const Ray ray{Vec3(0.1f, -0.2f, 0.0f), glm::normalize(Vec3(0.3f, 0.4f, 1.0f))};
+    for (float rho : {0.5f, 0.8f}) {
+        const Scene scene = furnace(rho, 1.0f);
+        const LightSampler lights(scene);
+        for (bool nee : {true, false}) {
+            PathOptions options;
+            options.next_event = nee;
+            std::vector<double> pixel_means;
+            for (uint64_t pixel = 0; pixel < 4000; ++pixel) {
+                double sum = 0.0;
+                for (uint64_t s = 0; s < 8; ++s) {
+                    Rng rng = Rng::kronecker(11, pixel, s);
+                    sum += path_trace(scene, lights, ray, rng, options).x;
+                }
+                pixel_means.push_back(sum / 8.0);
+            }
+            const auto [mean, se] = test::mean_and_error(pixel_means);
+            EXPECT_NEAR(mean, 1.0 / (1.0 - rho), test::z_quantile(kSignificance) * se + 1e-5)
+                << "rho " << rho << (nee ? " with" : " without") << " next-event estimation";
+        }
+    }
 }
