@@ -210,6 +210,20 @@ bool embree_memory_monitor(void*, ssize_t bytes, bool) {
     return true;
 }
 
+// Our ray as Embree's: the same origin, direction and (0, t_max) interval.
+RTCRay embree_ray(const Ray& r) {
+    RTCRay ray;
+    ray.org_x = r.origin.x, ray.org_y = r.origin.y, ray.org_z = r.origin.z;
+    ray.dir_x = r.dir.x, ray.dir_y = r.dir.y, ray.dir_z = r.dir.z;
+    ray.tnear = 0.0f;
+    ray.tfar = r.t_max;
+    ray.time = 0.0f;
+    ray.mask = ~0u;
+    ray.id = 0;
+    ray.flags = 0;
+    return ray;
+}
+
 struct EmbreeScene {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
@@ -253,16 +267,8 @@ struct EmbreeScene {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         for (size_t i = begin; i < end; ++i) {
-            const Ray& r = rays[i];
             RTCRayHit rh;
-            rh.ray.org_x = r.origin.x, rh.ray.org_y = r.origin.y, rh.ray.org_z = r.origin.z;
-            rh.ray.dir_x = r.dir.x, rh.ray.dir_y = r.dir.y, rh.ray.dir_z = r.dir.z;
-            rh.ray.tnear = 0.0f;
-            rh.ray.tfar = r.t_max;
-            rh.ray.time = 0.0f;
-            rh.ray.mask = ~0u;
-            rh.ray.id = 0;
-            rh.ray.flags = 0;
+            rh.ray = embree_ray(rays[i]);
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(scene, &context, &rh);
@@ -275,16 +281,7 @@ struct EmbreeScene {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         for (size_t i = begin; i < end; ++i) {
-            const Ray& r = rays[i];
-            RTCRay ray;
-            ray.org_x = r.origin.x, ray.org_y = r.origin.y, ray.org_z = r.origin.z;
-            ray.dir_x = r.dir.x, ray.dir_y = r.dir.y, ray.dir_z = r.dir.z;
-            ray.tnear = 0.0f;
-            ray.tfar = r.t_max;
-            ray.time = 0.0f;
-            ray.mask = ~0u;
-            ray.id = 0;
-            ray.flags = 0;
+            RTCRay ray = embree_ray(rays[i]);
             rtcOccluded1(scene, &context, &ray);
             hits += ray.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
         }
