@@ -390,35 +390,31 @@ TEST(HardCases, TheSideARayHitsComesFromTheHitTestNotADotProduct) {
 
 // 8. Shading normals on a low-poly sphere: no black silhouettes, no light through the surface.
 TEST(HardCases, LowPolySmoothSphereHasNoBlackSilhouette) {
-    const Scene scene = load_scene(kScenes + "hard/lowpoly_sphere.toml", {64, 48});
-    const LightSampler lights(scene);
     RenderSettings settings;
     settings.progress = false;
     settings.jitter = false;
-    const RenderResult r =
-        render_scene(scene, make_reflection_model(scene, lights, {}), 16, settings);
-    int on_sphere = 0, black = 0;
-    for (int y = 0; y < 48; ++y)
-        for (int x = 0; x < 64; ++x) {
-            const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
-            const std::optional<Hit> hit = scene.intersect(ray);
-            if (!hit || hit->prim.kind() != ShapeKind::Triangle) continue;
-            ++on_sphere;
-            black += is_black(r.image.at(x, y));  // the sky alone lights every visible facet
-        }
-    Scene naive = load_scene(kScenes + "hard/lowpoly_sphere.toml", {64, 48});
-    naive.naive.raw_shading_normals = true;
-    const LightSampler naive_lights(naive);
-    const RenderResult n =
-        render_scene(naive, make_reflection_model(naive, naive_lights, {}), 16, settings);
-    int naive_black = 0;
-    for (int y = 0; y < 48; ++y)
-        for (int x = 0; x < 64; ++x) {
-            const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
-            const std::optional<Hit> hit = scene.intersect(ray);
-            if (hit && hit->prim.kind() == ShapeKind::Triangle)
-                naive_black += is_black(n.image.at(x, y));
-        }
+    // Black pixels on the sphere, and pixels on it (the sky alone lights every visible facet).
+    auto black_on_sphere = [&](bool raw_shading_normals, int& on_sphere) {
+        Scene scene = load_scene(kScenes + "hard/lowpoly_sphere.toml", {64, 48});
+        scene.naive.raw_shading_normals = raw_shading_normals;
+        const LightSampler lights(scene);
+        const RenderResult r =
+            render_scene(scene, make_reflection_model(scene, lights, {}), 16, settings);
+        int black = 0;
+        on_sphere = 0;
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
+                const std::optional<Hit> hit = scene.intersect(ray);
+                if (!hit || hit->prim.kind() != ShapeKind::Triangle) continue;
+                ++on_sphere;
+                black += is_black(r.image.at(x, y));
+            }
+        return black;
+    };
+    int on_sphere = 0;
+    const int black = black_on_sphere(false, on_sphere);
+    const int naive_black = black_on_sphere(true, on_sphere);  // the interpolated normal as is
     figure("low-poly smooth sphere: " + std::to_string(black) + " black of " +
            std::to_string(on_sphere) + " pixels on the sphere (" + std::to_string(naive_black) +
            " with the interpolated normal used as it is)");
@@ -433,28 +429,23 @@ TEST(HardCases, NothingIsLitBehindAOneSidedLight) {
     scene.background = Color(0.0f);  // only the lamp
     scene.commit();
     const LightSampler lights(scene);
+    // Lesson 3's estimate of the light a point reflects, averaged over 2000 samples.
+    auto direct = [&](const Ray& ray, uint64_t seed) {
+        double sum = 0.0;
+        for (int i = 0; i < 2000; ++i) {
+            Rng rng(seed, 0, i);
+            sum += reflection_equation(scene, lights, ray, rng, {}).x;
+        }
+        return sum / 2000;
+    };
     const Ray down{Vec3(0.2f, 0.5f, 0.1f), Vec3(0, -1, 0)};  // a floor point right under the lamp
-    double floor_direct = 0.0;
-    for (int i = 0; i < 2000; ++i) {
-        Rng rng(9, 0, i);
-        floor_direct += reflection_equation(scene, lights, down, rng, {}).x;
-    }
-    const Ray up{Vec3(0.2f, 1.5f, 0.1f), Vec3(0, 1, 0)};  // the ceiling above it
-    double ceiling = 0.0;
-    for (int i = 0; i < 2000; ++i) {
-        Rng rng(10, 0, i);
-        ceiling += reflection_equation(scene, lights, up, rng, {}).x;
-    }
+    const Ray up{Vec3(0.2f, 1.5f, 0.1f), Vec3(0, 1, 0)};     // the ceiling above it
+    const double floor_direct = direct(down, 9), ceiling = direct(up, 10);
     scene.naive.light_abs_cosine = true;  // next-event estimation with |cos| at the lamp
-    double naive_floor = 0.0;
-    for (int i = 0; i < 2000; ++i) {
-        Rng rng(9, 0, i);
-        naive_floor += reflection_equation(scene, lights, down, rng, {}).x;
-    }
+    const double naive_floor = direct(down, 9);
     figure("one-sided lamp facing up: direct light on the floor below " +
-           std::to_string(floor_direct / 2000) +
-           " (with |cos| at the lamp: " + std::to_string(naive_floor / 2000) +
-           "), on the ceiling above " + std::to_string(ceiling / 2000));
+           std::to_string(floor_direct) + " (with |cos| at the lamp: " +
+           std::to_string(naive_floor) + "), on the ceiling above " + std::to_string(ceiling));
     EXPECT_EQ(floor_direct, 0.0);
     EXPECT_GT(naive_floor, 0.0);
     EXPECT_GT(ceiling, 0.0);
