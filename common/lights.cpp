@@ -112,6 +112,7 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
     Vec3 q, n_q, q_error;
     float pdf_solid_angle = 0.0f;
     const PrimRef prim = light.prim;
+    bool by_area = prim.kind() != ShapeKind::Sphere;  // else pdf_solid_angle is set below
     if (prim.kind() == ShapeKind::Sphere) {
         const Sphere& s = scene_.spheres()[prim.index()];
         const Vec3 to_center = s.center - at.p;
@@ -150,10 +151,19 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
         q_error = gamma_bound(5) * (glm::abs(s.center) + Vec3(s.radius));
     } else if (prim.kind() == ShapeKind::Quad) {
         const Quad& quad = scene_.quads()[prim.index()];
-        q = quad.corner + u.x * quad.edge_u + u.y * quad.edge_v;
+        Vec2 ab = u;  // edge coordinates of the point, uniform by area
+        if (light.rectangle) {
+            const SphericalRectangle rect(at.p, quad.corner, quad.edge_u, quad.edge_v);
+            if (rect.well_conditioned()) {
+                ab = rect.sample(u);  // uniform in solid angle instead
+                pdf_solid_angle = spherical_rectangle_pdf(rect);
+                by_area = false;
+            }
+        }
+        q = quad.corner + ab.x * quad.edge_u + ab.y * quad.edge_v;
         n_q = quad.normal;
-        q_error = gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(u.x * quad.edge_u) +
-                                    glm::abs(u.y * quad.edge_v));
+        q_error = gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(ab.x * quad.edge_u) +
+                                    glm::abs(ab.y * quad.edge_v));
     } else {
         const Triangle& t = scene_.triangles()[prim.index()];
         const Vec3 &p0 = scene_.positions()[t.v[0]], &p1 = scene_.positions()[t.v[1]],
@@ -173,8 +183,7 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
     float cos_light = glm::dot(n_q, -wi);  // > 0: the light's front faces the point
     if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);  // the textbook slip
     if (cos_light <= 0.0f && !light.two_sided) return std::nullopt;       // one-sided: dark behind
-    if (prim.kind() != ShapeKind::Sphere)
-        pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
+    if (by_area) pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
     if (!(pdf_solid_angle > 0.0f) || !std::isfinite(pdf_solid_angle)) return std::nullopt;
     return LightSample{light.radiance,
                        wi,
@@ -201,6 +210,11 @@ float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& 
         if (dc2 <= r2 * 1.0001f) return area_to_solid_angle_pdf(1.0f / s.area(), d2, cos_light);
         const float sin2_max = r2 / dc2;
         return uniform_cone_pdf(cone_one_minus_cos(sin2_max));
+    }
+    if (light.rectangle) {
+        const Quad& quad = scene_.quads()[light.prim.index()];
+        const SphericalRectangle rect(p, quad.corner, quad.edge_u, quad.edge_v);
+        if (rect.well_conditioned()) return spherical_rectangle_pdf(rect);
     }
     return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
 }

@@ -5,7 +5,11 @@
 // and spheres, one-sided unless the material says two-sided), and the uniform environment
 // (the scene's background radiance). A light is chosen with probability proportional to its
 // power; then
-//   quads, triangles: a point uniform by area, p_A = 1 / A, converted to solid angle;
+//   rectangles (quads with orthogonal edges): a direction uniform in the solid angle they
+//     subtend (SphericalRectangle, sampling.h), p = 1 / Omega, which stays bounded near the
+//     light's plane, where area sampling's 1 / (d^2 cos(theta_l)) does not (by area when the
+//     solid angle is too small or too large to sample accurately);
+//   other quads, triangles: a point uniform by area, p_A = 1 / A, converted to solid angle;
 //   spheres: a direction uniform in the cone the sphere subtends (from inside: by area);
 //   environment: a direction uniform on the sphere, 1 / (4 pi);
 //   point lights: their position (a delta distribution).

@@ -124,6 +124,9 @@ void Scene::commit() {
                 light.center_error =
                     gamma_bound(4) * (glm::abs(q.corner) + glm::abs(q.edge_u) + glm::abs(q.edge_v));
                 light.normal = q.normal;
+                // Orthogonal to float precision (edges as given, or turned by a rotation).
+                light.rectangle = std::fabs(glm::dot(q.edge_u, q.edge_v)) <=
+                                  1e-5f * glm::length(q.edge_u) * glm::length(q.edge_v);
                 break;
             }
             case ShapeKind::Triangle: {
@@ -151,9 +154,19 @@ void Scene::commit() {
         ordered.push_back(p == Bvh::kPadding ? PrimRef() : prims_[p]);  // gaps: never visited
     prims_ = std::move(ordered);
     triangle_blocks_.clear();
-    only_triangles_ = spheres_.empty() && quads_.empty();
+    quad_blocks_.clear();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    if (!quads_.empty()) {
+        QuadBlock unused;
+        for (int axis = 0; axis < 3; ++axis)
+            unused.corner[axis] = unused.normal[axis] = unused.dual_u[axis] = unused.dual_v[axis] =
+                Float4{} + nan;
+        quad_blocks_.assign((prims_.size() + 3) / 4, unused);
+        for (size_t k = 0; k < prims_.size(); ++k)
+            if (bvh_.primitive_order()[k] != Bvh::kPadding && prims_[k].kind() == ShapeKind::Quad)
+                quad_blocks_[k / 4].set(static_cast<int>(k % 4), quads_[prims_[k].index()]);
+    }
     if (!triangles_.empty()) {
-        const float nan = std::numeric_limits<float>::quiet_NaN();
         TriangleBlock unused;
         for (auto& vertex : unused.p)
             for (Float4& axis : vertex) axis = Float4{} + nan;
@@ -179,11 +192,7 @@ void Scene::commit() {
             return naive.textbook_quadratic ? intersect_sphere_naive(spheres_[prim.index()], r, hit)
                                             : intersect_sphere(spheres_[prim.index()], r, hit);
         }
-        case ShapeKind::Quad: {
-            Ray r = ray;
-            r.t_max = t_max;
-            return intersect_quad(quads_[prim.index()], r, hit);
-        }
+        case ShapeKind::Quad: break;  // always four at once, by QuadBlock
         case ShapeKind::Triangle: {
             const TriangleBlock& block = triangle_blocks_[k / 4];
             const int lane = static_cast<int>(k % 4);
@@ -205,14 +214,14 @@ bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const W
                            float& t_max, OnHit&& on_hit) const {
     bool hit_any = false;
     ShapeHit h;
-    const bool blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
-    if (blocks) {
+    // Leaves start at multiples of four and hold at most four: one block of each kind.
+    static_assert(Bvh::kLeafAlignment == 4 && Bvh::kMaxLeafSize <= 4);
+    const unsigned lanes = (1u << (end - first)) - 1u;
+    const bool triangle_blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
+    if (triangle_blocks) {
         // The leaf's triangles, four at once: the block test filters, the exact test decides.
-        // (Leaves start at multiples of four and hold at most four: one block each.)
-        static_assert(Bvh::kLeafAlignment == 4 && Bvh::kMaxLeafSize <= 4);
         const TriangleBlock& block = triangle_blocks_[first / 4];
-        for (unsigned m = block.candidates(wr, t_max) & ((1u << (end - first)) - 1u); m != 0;
-             m &= m - 1) {
+        for (unsigned m = block.candidates(wr, t_max) & lanes; m != 0; m &= m - 1) {
             const int lane = std::countr_zero(m);
             if (!intersect_triangle(wr, block.vertex(lane, 0), block.vertex(lane, 1),
                                     block.vertex(lane, 2), t_max, h))
@@ -220,10 +229,24 @@ bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const W
             hit_any = true;
             if (on_hit(first + lane, h)) return true;
         }
-        if (only_triangles_) return hit_any;
     }
+    if (!quad_blocks_.empty()) {
+        // The leaf's quads, four at once, with exactly intersect_quad's arithmetic.
+        QuadTerms<Float4> q;
+        for (unsigned m = quad_blocks_[first / 4].intersect(ray, t_max, q) & lanes; m != 0;
+             m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            if (!(q.t[lane] < t_max)) continue;  // beyond a hit found in this leaf meanwhile
+            h = {q.t[lane], q.a[lane], q.b[lane], q.denom[lane] < 0.0f};
+            hit_any = true;
+            if (on_hit(first + lane, h)) return true;
+        }
+    }
+    // One by one: spheres, and triangles under --naive moller-trumbore.
+    if (spheres_.empty() && (triangles_.empty() || triangle_blocks)) return hit_any;
     for (uint32_t k = first; k < end; ++k) {
-        if (blocks && prims_[k].kind() == ShapeKind::Triangle) continue;
+        const ShapeKind kind = prims_[k].kind();
+        if (kind == ShapeKind::Quad || (triangle_blocks && kind == ShapeKind::Triangle)) continue;
         if (!intersect_primitive(k, ray, wr, t_max, h)) continue;
         hit_any = true;
         if (on_hit(k, h)) return true;
@@ -321,7 +344,7 @@ size_t Scene::geometry_bytes() const {
     auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return bytes(spheres_) + bytes(sphere_materials_) + bytes(quads_) + bytes(quad_materials_) +
            bytes(positions_) + bytes(normals_) + bytes(uvs_) + bytes(triangles_) + bytes(prims_) +
-           bytes(triangle_blocks_) + bvh_.memory_bytes();
+           bytes(triangle_blocks_) + bytes(quad_blocks_) + bvh_.memory_bytes();
 }
 
 Color Scene::emitted(const SurfaceInteraction& si) const {

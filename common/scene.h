@@ -75,10 +75,11 @@ struct AreaLight {
     uint32_t material;
     Color radiance;  // emitted radiance L_e, W / (sr m^2)
     bool two_sided;
-    float area;         // m^2
-    Vec3 center;        // centroid (sphere: its center)
-    Vec3 center_error;  // rounding-error bound of center (for shadow rays ending on it)
-    Vec3 normal;        // unit emitting normal (zero for spheres, which emit all around)
+    float area;              // m^2
+    Vec3 center;             // centroid (sphere: its center)
+    Vec3 center_error;       // rounding-error bound of center (for shadow rays ending on it)
+    Vec3 normal;             // unit emitting normal (zero for spheres, which emit all around)
+    bool rectangle = false;  // a quad with orthogonal edges: sampled by solid angle (lights.h)
 };
 
 // The naive methods that the robust ones replace, kept so their failures can be shown
@@ -172,7 +173,8 @@ private:
     std::vector<PrimRef> prims_;                  // in the BVH's primitive order
     std::vector<TriangleBlock> triangle_blocks_;  // vertices of positions 4b..4b+3; empty without
                                                   // triangles; other lanes NaN
-    bool only_triangles_ = false;
+    std::vector<QuadBlock> quad_blocks_;          // the same for quads
+
     std::vector<PointLight> point_lights_;
     std::vector<AreaLight> area_lights_;
     Bvh bvh_;

@@ -91,7 +91,8 @@ Quad::Quad(const Vec3& c, const Vec3& u, const Vec3& v) : corner(c), edge_u(u), 
     const float len2 = glm::dot(n, n);
     area_value = std::sqrt(len2);
     normal = area_value > 0.0f ? n / area_value : Vec3(0.0f);
-    inv_cross = len2 > 0.0f ? n / len2 : Vec3(0.0f);
+    dual_u = len2 > 0.0f ? glm::cross(v, n) / len2 : Vec3(0.0f);
+    dual_v = len2 > 0.0f ? glm::cross(n, u) / len2 : Vec3(0.0f);
 }
 
 Bounds3 Quad::bounds() const {

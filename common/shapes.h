@@ -62,8 +62,11 @@ SurfaceGeometry sphere_surface(const Sphere& s, const Ray& ray, const ShapeHit& 
 // normal is normalize(cross(edge_u, edge_v)): the order of the edges picks the front side.
 struct Quad {
     Vec3 corner, edge_u, edge_v;
-    Vec3 normal;       // unit
-    Vec3 inv_cross;    // cross(edge_u, edge_v) / |cross(edge_u, edge_v)|^2, for edge coordinates
+    Vec3 normal;  // unit
+    // The dual basis of the edges in the quad's plane: a point corner + rel has edge
+    // coordinates a = rel . dual_u, b = rel . dual_v. With N = cross(edge_u, edge_v),
+    // dual_u = cross(edge_v, N) / |N|^2 and dual_v = cross(N, edge_u) / |N|^2 (Cramer's rule).
+    Vec3 dual_u, dual_v;
     float area_value;  // |cross(edge_u, edge_v)|
 
     Quad() = default;
@@ -74,23 +77,70 @@ struct Quad {
 };
 
 // Plane hit, then the edge coordinates a, b of the hit point; edges are included on both sides,
-// so two quads sharing an edge leave no crack between them.
+// so two quads sharing an edge leave no crack between them. Written once for one quad (T =
+// float) and for four side by side (T = Float4, QuadBlock), so both give the same bits.
+template <class T>
+struct QuadTerms {
+    T denom;  // n . d: zero when the ray runs parallel to the plane
+    T t;      // where the ray meets the plane: n . (corner - o) / (n . d)
+    T a, b;   // edge coordinates of that point: (o + t d - corner) . dual_u, . dual_v
+};
+template <class T>
+[[gnu::always_inline]] inline QuadTerms<T> quad_terms(const T corner[3], const T normal[3],
+                                                      const T dual_u[3], const T dual_v[3],
+                                                      const Ray& ray) {
+    const Vec3 &o = ray.origin, &d = ray.dir;
+    QuadTerms<T> r;
+    r.denom = normal[0] * d.x + normal[1] * d.y + normal[2] * d.z;
+    r.t = (normal[0] * (corner[0] - o.x) + normal[1] * (corner[1] - o.y) +
+           normal[2] * (corner[2] - o.z)) /
+          r.denom;
+    const T rel[3] = {o.x + r.t * d.x - corner[0], o.y + r.t * d.y - corner[1],
+                      o.z + r.t * d.z - corner[2]};
+    r.a = rel[0] * dual_u[0] + rel[1] * dual_u[1] + rel[2] * dual_u[2];
+    r.b = rel[0] * dual_v[0] + rel[1] * dual_v[1] + rel[2] * dual_v[2];
+    return r;
+}
 inline bool intersect_quad(const Quad& q, const Ray& ray, ShapeHit& hit) {  // inline: hot
-    const float denom = glm::dot(q.normal, ray.dir);
-    if (denom == 0.0f) return false;  // parallel to the plane
-    const float t = glm::dot(q.normal, q.corner - ray.origin) / denom;
-    if (!(t > 0.0f && t < ray.t_max)) return false;
-    const Vec3 rel = ray.at(t) - q.corner;
-    // Edge coordinates: rel = a u + b v solved by Cramer's rule with the normal's cross product.
-    const float a = glm::dot(q.inv_cross, glm::cross(rel, q.edge_v));
-    const float b = glm::dot(q.inv_cross, glm::cross(q.edge_u, rel));
-    if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) return false;
-    hit.t = t;
-    hit.u = a;
-    hit.v = b;
-    hit.front = denom < 0.0f;  // the ray runs against the normal: it arrives from the front
+    const float c[3] = {q.corner.x, q.corner.y, q.corner.z};
+    const float n[3] = {q.normal.x, q.normal.y, q.normal.z};
+    const float du[3] = {q.dual_u.x, q.dual_u.y, q.dual_u.z};
+    const float dv[3] = {q.dual_v.x, q.dual_v.y, q.dual_v.z};
+    const QuadTerms<float> r = quad_terms(c, n, du, dv, ray);
+    if (r.denom == 0.0f || !(r.t > 0.0f && r.t < ray.t_max)) return false;
+    if (!(r.a >= 0.0f && r.a <= 1.0f && r.b >= 0.0f && r.b <= 1.0f)) return false;
+    hit.t = r.t;
+    hit.u = r.a;
+    hit.v = r.b;
+    hit.front = r.denom < 0.0f;  // the ray runs against the normal: it arrives from the front
     return true;
 }
+
+// Four quads side by side (structure of arrays), as a BVH leaf stores them, intersected at once
+// by quad_terms: lane i gives what intersect_quad gives for quad i, bit for bit. Unused lanes
+// hold NaN, which hits nothing.
+struct QuadBlock {
+    Float4 corner[3], normal[3], dual_u[3], dual_v[3];  // [axis][lane]
+
+    void set(int lane, const Quad& q) {
+        for (int axis = 0; axis < 3; ++axis) {
+            corner[axis][lane] = q.corner[axis];
+            normal[axis][lane] = q.normal[axis];
+            dual_u[axis][lane] = q.dual_u[axis];
+            dual_v[axis][lane] = q.dual_v[axis];
+        }
+    }
+    // Bit i of the result set: quad i is hit within (0, t_max), at terms.t[i], terms.a[i], ...
+    [[gnu::always_inline]] unsigned intersect(const Ray& ray, float t_max,
+                                              QuadTerms<Float4>& terms) const {
+        terms = quad_terms(corner, normal, dual_u, dual_v, ray);
+        const auto hit = (terms.denom != 0.0f) & (terms.t > 0.0f) & (terms.t < t_max) &
+                         (terms.a >= 0.0f) & (terms.a <= 1.0f) & (terms.b >= 0.0f) &
+                         (terms.b <= 1.0f);
+        return (hit[0] & 1u) | (hit[1] & 2u) | (hit[2] & 4u) | (hit[3] & 8u);
+    }
+};
+static_assert(sizeof(QuadBlock) == 192);
 SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit);
 
 // ---------------------------------------------------------------------------------------------

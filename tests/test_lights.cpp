@@ -205,3 +205,45 @@ TEST(Lights, SamplesAreFiniteAtTheEndsOfTheUnitSquare) {
                 EXPECT_GT(s->pdf, 0.0f);
             }
 }
+
+TEST(Lights, RectangleLightsAreSampledBySolidAngleNearTheirPlane) {
+    // A two-sided 2 x 2 lamp at y = 1 and a point 0.01 below its plane, 0.05 beside its edge:
+    // the ceiling beside the lamp of the Cornell box in Ray Tracing: The Next Week. Sampled by
+    // area, the estimate L cos(theta) cos(theta_l) A / d^2 of the irradiance is unbounded near the
+    // edge; sampled by solid angle it is L cos(theta) Omega, bounded. Both agree with Lambert's
+    // formula; the standard error differs by an order of magnitude.
+    Scene scene;
+    const float L = 2.0f;
+    const Vec3 corner(-1, 1, -1), eu(2, 0, 0), ev(0, 0, 2);
+    scene.add_quad(Quad(corner, eu, ev), add_emitter(scene, Color(L), true));
+    scene.commit();
+    ASSERT_TRUE(scene.area_lights()[0].rectangle);
+    const Vec3 p(1.05f, 0.99f, 0.3f), n(0, 1, 0);
+    const glm::dvec3 c(corner), u(eu), v(ev);
+    const double expected = test::lambert_polygon_irradiance({c, c + u, c + u + v, c + v},
+                                                             glm::dvec3(p), glm::dvec3(n), L);
+    const auto [mean, se] = irradiance_by_light_sampling(scene, p, n, 100000, 6);
+    EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se) << "expected " << expected;
+
+    // The same estimate with points uniform by area (p_A = 1 / A, converted to solid angle).
+    Rng rng(6);
+    std::vector<double> by_area;
+    for (int i = 0; i < 100000; ++i) {
+        const Vec3 q = corner + rng.uniform() * eu + rng.uniform() * ev;
+        const Vec3 d = q - p;
+        const float d2 = glm::dot(d, d);
+        const Vec3 wi = d / std::sqrt(d2);
+        const float pdf = area_to_solid_angle_pdf(1.0f / 4.0f, d2, wi.y);
+        by_area.push_back(pdf > 0.0f ? L * std::max(0.0f, wi.y) / pdf : 0.0);
+    }
+    const auto [mean_area, se_area] = test::mean_and_error(by_area);
+    EXPECT_NEAR(mean_area, expected, test::z_quantile(kSignificance) * se_area);
+    EXPECT_GT(se_area, 10.0 * se) << "by area " << se_area << ", by solid angle " << se;
+
+    // The directions match the density MIS uses, from beside the lamp and from above it.
+    for (const Vec3& from : {p, Vec3(0.2f, 1.5f, -0.4f)}) {
+        const auto r = check_light_directions(scene, from, 7);
+        EXPECT_TRUE(r.passed) << r.report;
+        EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3) << r.report;
+    }
+}

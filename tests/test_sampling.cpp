@@ -99,6 +99,12 @@ TEST(Sampling, OutputsAreFiniteAtTheEndsOfTheUnitSquare) {
             EXPECT_TRUE(std::isfinite(d.x) && std::isfinite(d.y));
             const Vec2 t = sample_uniform_triangle(u);
             EXPECT_TRUE(std::isfinite(t.x) && std::isfinite(t.y));
+            for (const Vec3& o : {Vec3(0, 0, -1), Vec3(3, 0.5f, 1e-3f), Vec3(0.5f, 0.5f, 1e-3f)}) {
+                const Vec2 r =
+                    SphericalRectangle(o, Vec3(0), Vec3(1, 0, 0), Vec3(0, 1, 0)).sample(u);
+                EXPECT_TRUE(r.x >= 0.0f && r.x <= 1.0f && r.y >= 0.0f && r.y <= 1.0f)
+                    << r.x << " " << r.y;
+            }
         }
 }
 
@@ -131,4 +137,80 @@ TEST(Sampling, TheChiSquareTestRejectsAWrongDensity) {
         },
         [](const Vec3& w) { return 1.05 * cosine_hemisphere_pdf(w.z); }, 100000, kSignificance);
     EXPECT_FALSE(too_heavy.passed) << too_heavy.report;
+}
+
+namespace {
+// Solid angle of the rectangle [x0, x1] x [y0, y1] in the plane z = -h seen from the origin, in
+// double: sum over corners of +-atan(x y / (h |(x, y, h)|)) (the solid angle of the rectangle
+// [0, x] x [0, y] is atan(x y / (h r))).
+double rectangle_solid_angle(double x0, double x1, double y0, double y1, double h) {
+    auto corner = [h](double x, double y) {
+        return std::atan(x * y / (h * std::sqrt(x * x + y * y + h * h)));
+    };
+    return corner(x1, y1) - corner(x0, y1) - corner(x1, y0) + corner(x0, y0);
+}
+}  // namespace
+
+TEST(Sampling, SphericalRectangleSolidAngleMatchesTheClosedForm) {
+    // A 2 x 1.5 rectangle in the plane z = -h (edges along x and y), seen from the origin:
+    // above its middle, beside it and close to its plane (where area sampling fails), far away.
+    struct Case {
+        double x0, y0, h;
+    };
+    for (const Case& c : {Case{-1.0, -0.75, 1.0}, Case{0.05, -0.75, 0.01}, Case{-1.0, 3.0, 0.2},
+                          Case{3.0, 4.0, 20.0}}) {
+        const SphericalRectangle rect(Vec3(0.0f), Vec3(float(c.x0), float(c.y0), float(-c.h)),
+                                      Vec3(2, 0, 0), Vec3(0, 1.5f, 0));
+        const double expected = rectangle_solid_angle(c.x0, c.x0 + 2.0, c.y0, c.y0 + 1.5, c.h);
+        EXPECT_NEAR(rect.solid_angle(), expected, 2e-4 * expected + 1e-6) << c.x0 << " " << c.h;
+        EXPECT_TRUE(rect.well_conditioned());
+        // The same rectangle seen from the other side (o mirrored through its plane).
+        const SphericalRectangle back(Vec3(0, 0, float(-2.0 * c.h)),
+                                      Vec3(float(c.x0), float(c.y0), float(-c.h)), Vec3(2, 0, 0),
+                                      Vec3(0, 1.5f, 0));
+        EXPECT_NEAR(back.solid_angle(), expected, 2e-4 * expected + 1e-6);
+    }
+    // In its plane it subtends nothing, and the caller must sample by area.
+    EXPECT_FALSE(SphericalRectangle(Vec3(5, 0, 0), Vec3(0), Vec3(1, 0, 0), Vec3(0, 1, 0))
+                     .well_conditioned());
+}
+
+TEST(Sampling, SphericalRectangleDirectionsAreUniformInSolidAngle) {
+    // Chi-square of the directions towards the sampled points against 1 / Omega over the
+    // rectangle's directions, from above it, from near its plane beside it, and obliquely. The
+    // rectangle is turned so that its edges lie along no axis.
+    const Vec3 eu = 2.0f * glm::normalize(Vec3(1, 0.2f, 0)), ev = glm::normalize(Vec3(-0.2f, 1, 0));
+    const Vec3 corner(-1, -0.5f, 1);
+    const Vec3 n = glm::normalize(glm::cross(eu, ev));
+    for (const Vec3& o : {Vec3(0, 0, 0), Vec3(1.8f, 0.3f, 0.97f), Vec3(-2, 1, 0.3f)}) {
+        const SphericalRectangle rect(o, corner, eu, ev);
+        ASSERT_TRUE(rect.well_conditioned());
+        Rng rng(5);
+        const auto r = test::chi2_test_directions(
+            [&](Vec3& w) {
+                const Vec2 ab = rect.sample({rng.uniform(), rng.uniform()});
+                w = glm::normalize(corner + ab.x * eu + ab.y * ev - o);
+                return true;
+            },
+            [&](const Vec3& w) -> double {
+                // Does the ray o + t w meet the rectangle? (Plane, then edge coordinates.)
+                const double denom = glm::dot(glm::dvec3(n), glm::dvec3(w));
+                if (denom == 0.0) return 0.0;
+                const double t = glm::dot(glm::dvec3(n), glm::dvec3(corner - o)) / denom;
+                if (t <= 0.0) return 0.0;
+                const glm::dvec3 rel = glm::dvec3(o) + t * glm::dvec3(w) - glm::dvec3(corner);
+                const double a = glm::dot(rel, glm::dvec3(eu)) / 4.0;
+                const double b = glm::dot(rel, glm::dvec3(ev));
+                // Points on an edge are sampled (a, b in [0, 1]); the float direction towards
+                // them may pass a rounding error outside.
+                const double tolerance = 1e-5;
+                return a >= -tolerance && a <= 1.0 + tolerance && b >= -tolerance &&
+                               b <= 1.0 + tolerance
+                           ? 1.0 / rect.solid_angle()
+                           : 0.0;
+            },
+            kSamples, kSignificance, 80, 80);
+        EXPECT_TRUE(r.passed) << o.x << " " << o.y << " " << o.z << ": " << r.report;
+        EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3);
+    }
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "bvh.h"
+#include "rng.h"
 #include "scene.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -74,6 +75,46 @@ TEST(Quad, HitsInsideMissesOutsideAndIncludesItsEdges) {
     EXPECT_FALSE(intersect_quad(q, Ray{Vec3(1, 0.5f, 0), Vec3(1, 0, 0)}, hit));  // parallel
     const SurfaceGeometry g = quad_surface(q, ShapeHit{5.0f, 0.25f, 0.5f});
     EXPECT_EQ(g.p, Vec3(0.5f, 0.5f, 5.0f));
+}
+
+TEST(Quad, FourAtOnceGiveTheSingleTestsBitsExactly) {
+    // QuadBlock runs intersect_quad's arithmetic on four quads at once: every lane must agree
+    // with the scalar test on hit or miss, and on t, the edge coordinates and the side, to the
+    // bit. Rays from random origins towards random points near the quads, so that edges are hit.
+    Rng rng(9);
+    auto point = [&](float scale) {
+        return scale * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+    };
+    int hits = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        Quad quads[4];
+        QuadBlock block;
+        for (int lane = 0; lane < 4; ++lane) {
+            quads[lane] = Quad(point(4.0f), point(2.0f), point(2.0f));
+            block.set(lane, quads[lane]);
+        }
+        for (int r = 0; r < 200; ++r) {
+            const Vec3 origin = point(10.0f);
+            const Quad& aim = quads[r % 4];
+            const Vec3 target =
+                aim.corner + rng.uniform() * aim.edge_u + rng.uniform() * aim.edge_v;
+            const Ray ray{origin, target - origin, r % 3 == 0 ? 0.5f : kInfinity};
+            QuadTerms<Float4> terms;
+            const unsigned mask = block.intersect(ray, ray.t_max, terms);
+            for (int lane = 0; lane < 4; ++lane) {
+                ShapeHit h;
+                const bool hit = intersect_quad(quads[lane], ray, h);
+                ASSERT_EQ(hit, ((mask >> lane) & 1u) != 0) << "trial " << trial << " ray " << r;
+                if (!hit) continue;
+                ++hits;
+                EXPECT_EQ(h.t, terms.t[lane]);
+                EXPECT_EQ(h.u, terms.a[lane]);
+                EXPECT_EQ(h.v, terms.b[lane]);
+                EXPECT_EQ(h.front, terms.denom[lane] < 0.0f);
+            }
+        }
+    }
+    EXPECT_GT(hits, 20000);  // of 160,000 ray-quad pairs; a quarter are aimed at their quad
 }
 
 TEST(Triangle, BarycentricsAndDistanceMatchClosedForm) {
