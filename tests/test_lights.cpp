@@ -239,6 +239,7 @@ TEST(Lights, RectangleLightsAreSampledBySolidAngleNearTheirPlane) {
     const auto [mean_area, se_area] = test::mean_and_error(by_area);
     EXPECT_NEAR(mean_area, expected, test::z_quantile(kSignificance) * se_area);
     EXPECT_GT(se_area, 10.0 * se) << "by area " << se_area << ", by solid angle " << se;
+    RecordProperty("standard_error_ratio", std::to_string(se_area / se));
 
     // The directions match the density MIS uses, from beside the lamp and from above it.
     for (const Vec3& from : {p, Vec3(0.2f, 1.5f, -0.4f)}) {
