@@ -219,9 +219,19 @@ bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const W
     const unsigned lanes = (1u << (end - first)) - 1u;
     const bool triangle_blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
     if (triangle_blocks) {
-        // The leaf's triangles, four at once: the block test filters, the exact test decides.
+        // The leaf's triangles, four at once; a lane with an edge function of exactly zero is
+        // decided by the scalar test, which re-evaluates it in double.
         const TriangleBlock& block = triangle_blocks_[first / 4];
-        for (unsigned m = block.candidates(wr, t_max) & lanes; m != 0; m &= m - 1) {
+        TriangleHits4 th;
+        unsigned recheck;
+        for (unsigned m = block.intersect(wr, t_max, th, recheck) & lanes; m != 0; m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            if (!(th.t[lane] < t_max)) continue;  // beyond a hit found in this leaf meanwhile
+            h = {th.t[lane], th.u[lane], th.v[lane], th.det[lane] > 0.0f};
+            hit_any = true;
+            if (on_hit(first + lane, h)) return true;
+        }
+        for (unsigned m = recheck & lanes; m != 0; m &= m - 1) {
             const int lane = std::countr_zero(m);
             if (!intersect_triangle(wr, block.vertex(lane, 0), block.vertex(lane, 1),
                                     block.vertex(lane, 2), t_max, h))

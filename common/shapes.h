@@ -157,24 +157,79 @@ struct WatertightRay {
     explicit WatertightRay(const Ray& ray);
 };
 
+// The watertight test's arithmetic, written once for one triangle (T = float) and for four side
+// by side (T = Float4, TriangleBlock), so both give the same bits (no fused multiply-adds:
+// -ffp-contract=off). p[vertex][axis] holds the triangle's vertices.
+template <class T>
+struct WatertightTerms {
+    // The vertices relative to the ray origin, sheared so that the ray runs along +z from the
+    // origin (z scaled by sz, so that z is the hit distance at a vertex).
+    T x[3], y[3], z[3];
+    // Edge functions: twice the signed areas of the sub-triangles opposite each vertex.
+    T e0, e1, e2;
+};
+template <class T>
+[[gnu::always_inline]] inline WatertightTerms<T> watertight_terms(const WatertightRay& wr,
+                                                                  const T (&p)[3][3]) {
+    WatertightTerms<T> w;
+    for (int k = 0; k < 3; ++k) {
+        const T dx = p[k][wr.kx] - wr.origin[wr.kx];
+        const T dy = p[k][wr.ky] - wr.origin[wr.ky];
+        const T dz = p[k][wr.kz] - wr.origin[wr.kz];
+        w.x[k] = dx - wr.sx * dz;
+        w.y[k] = dy - wr.sy * dz;
+        w.z[k] = wr.sz * dz;
+    }
+    w.e0 = w.x[2] * w.y[1] - w.y[2] * w.x[1];
+    w.e1 = w.x[0] * w.y[2] - w.y[0] * w.x[2];
+    w.e2 = w.x[1] * w.y[0] - w.y[1] * w.x[0];
+    return w;
+}
+inline float max_of(float a, float b) {
+    return a < b ? b : a;
+}
+inline Float4 max_of(Float4 a, Float4 b) {
+    return a < b ? b : a;
+}
+inline float abs_of(float a) {
+    return std::fabs(a);
+}
+inline Float4 abs_of(Float4 a) {  // clears the sign bits, as fabs does
+    using Bits4 = uint32_t __attribute__((vector_size(16)));
+    return reinterpret_cast<Float4>(reinterpret_cast<Bits4>(a) & 0x7fffffffu);
+}
+// How far the computed t = t_scaled / det may lie from the true distance, at most: a hit is
+// accepted only beyond it, so a ray spawned from this triangle (offset by less than that error)
+// cannot hit it again. Bound from pbrt-v4 (sec. 6.8.7).
+template <class T>
+[[gnu::always_inline]] inline T watertight_t_error(const WatertightTerms<T>& w, T inv_det) {
+    const T max_z = max_of(max_of(abs_of(w.z[0]), abs_of(w.z[1])), abs_of(w.z[2]));
+    const T max_x = max_of(max_of(abs_of(w.x[0]), abs_of(w.x[1])), abs_of(w.x[2]));
+    const T max_y = max_of(max_of(abs_of(w.y[0]), abs_of(w.y[1])), abs_of(w.y[2]));
+    const T delta_z = gamma_bound(3) * max_z;
+    const T delta_x = gamma_bound(5) * (max_x + max_z);
+    const T delta_y = gamma_bound(5) * (max_y + max_z);
+    const T delta_e = 2.0f * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+    const T max_e = max_of(max_of(abs_of(w.e0), abs_of(w.e1)), abs_of(w.e2));
+    return 3.0f * (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
+           abs_of(inv_det);
+}
+
 // Inline: it is the innermost test of every triangle scene (docs/performance.md).
 inline bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Vec3& p1,
                                const Vec3& p2, float t_max, ShapeHit& hit) {
-    // Vertices relative to the ray origin, sheared so the ray runs along +z.
-    const Vec3 a = p0 - wr.origin, b = p1 - wr.origin, c = p2 - wr.origin;
-    const float ax = a[wr.kx] - wr.sx * a[wr.kz], ay = a[wr.ky] - wr.sy * a[wr.kz];
-    const float bx = b[wr.kx] - wr.sx * b[wr.kz], by = b[wr.ky] - wr.sy * b[wr.kz];
-    const float cx = c[wr.kx] - wr.sx * c[wr.kz], cy = c[wr.ky] - wr.sy * c[wr.kz];
-
-    // Edge functions: twice the signed areas of the sub-triangles opposite each vertex.
-    float e0 = cx * by - cy * bx;
-    float e1 = ax * cy - ay * cx;
-    float e2 = bx * ay - by * ax;
+    const float p[3][3] = {{p0.x, p0.y, p0.z}, {p1.x, p1.y, p1.z}, {p2.x, p2.y, p2.z}};
+    const WatertightTerms<float> w = watertight_terms(wr, p);
+    float e0 = w.e0, e1 = w.e1, e2 = w.e2;
     // An exact zero in float may be a rounding artefact: decide the sign in double.
     if (e0 == 0.0f || e1 == 0.0f || e2 == 0.0f) {
-        e0 = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-        e1 = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-        e2 = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+        auto edge = [&](int i, int j) {
+            return static_cast<float>(double(w.x[i]) * double(w.y[j]) -
+                                      double(w.y[i]) * double(w.x[j]));
+        };
+        e0 = edge(2, 1);
+        e1 = edge(0, 2);
+        e2 = edge(1, 0);
     }
     if ((e0 < 0.0f || e1 < 0.0f || e2 < 0.0f) && (e0 > 0.0f || e1 > 0.0f || e2 > 0.0f))
         return false;  // the ray passes outside one edge
@@ -182,28 +237,17 @@ inline bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Ve
     if (det == 0.0f) return false;  // degenerate, or seen exactly edge-on
 
     // Scaled hit distance; compared against t_max * det so no division is needed to reject.
-    const float az = wr.sz * a[wr.kz], bz = wr.sz * b[wr.kz], cz = wr.sz * c[wr.kz];
-    const float t_scaled = e0 * az + e1 * bz + e2 * cz;
+    const float t_scaled = e0 * w.z[0] + e1 * w.z[1] + e2 * w.z[2];
     if (det < 0.0f && (t_scaled >= 0.0f || t_scaled <= t_max * det)) return false;
     if (det > 0.0f && (t_scaled <= 0.0f || t_scaled >= t_max * det)) return false;
 
     const float inv_det = 1.0f / det;
     const float t = t_scaled * inv_det;
-    // Only accept t if it is positive beyond its own rounding error, so a ray spawned from this
-    // triangle (offset by less than that error) cannot re-hit it. Bound from pbrt-v4 (sec. 6.8.7).
-    const float max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
-    const float max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
-    const float max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
-    const float delta_z = gamma_bound(3) * max_z;
-    const float delta_x = gamma_bound(5) * (max_x + max_z);
-    const float delta_y = gamma_bound(5) * (max_y + max_z);
-    const float delta_e =
-        2.0f * (gamma_bound(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    const float max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
-    const float delta_t = 3.0f *
-                          (gamma_bound(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) *
-                          std::fabs(inv_det);
-    if (!(t > delta_t)) return false;
+    WatertightTerms<float> exact = w;  // the error bound reads the edge functions as decided
+    exact.e0 = e0;
+    exact.e1 = e1;
+    exact.e2 = e2;
+    if (!(t > watertight_t_error(exact, inv_det))) return false;
     hit.t = t;
     hit.u = e1 * inv_det;
     hit.v = e2 * inv_det;
@@ -212,13 +256,14 @@ inline bool intersect_triangle(const WatertightRay& wr, const Vec3& p0, const Ve
     hit.front = det > 0.0f;
     return true;
 }
-// Four triangles side by side (structure of arrays), as a BVH leaf stores them. candidates()
-// runs the watertight test's edge functions and distance bounds on all four at once. It is a
-// filter: it computes the values intersect_triangle computes, with the same operations in the
-// same order (no fused multiply-adds: -ffp-contract=off), so every lane it rejects would be
-// rejected there too; the few lanes that pass are then decided by intersect_triangle itself.
-// Lanes with an edge function of exactly zero, which the scalar test re-evaluates in double,
-// always pass. Unused lanes hold NaN, which passes nothing.
+
+// Four triangles side by side (structure of arrays), as a BVH leaf stores them, intersected at
+// once by the same arithmetic: lane i gives what intersect_triangle gives for triangle i, bit for
+// bit, except in lanes with an edge function of exactly zero, which the scalar test re-evaluates
+// in double: those lanes are left to it (`recheck`). Unused lanes hold NaN, which hits nothing.
+struct TriangleHits4 {
+    Float4 t, u, v, det;  // distance, barycentrics of vertices 1 and 2; det > 0: the front side
+};
 struct TriangleBlock {
     Float4 p[3][3];  // p[vertex][axis][lane]
 
@@ -229,30 +274,34 @@ struct TriangleBlock {
             for (int axis = 0; axis < 3; ++axis) p[k][axis][lane] = (*v[k])[axis];
     }
 
-    // Bit i set: triangle i may be hit within (0, t_max).
-    [[gnu::always_inline]] unsigned candidates(const WatertightRay& wr, float t_max) const {
-        Float4 x[3], y[3], z[3];  // the vertices relative to the origin, in the shear frame
-        for (int k = 0; k < 3; ++k) {
-            const Float4 dx = p[k][wr.kx] - wr.origin[wr.kx];
-            const Float4 dy = p[k][wr.ky] - wr.origin[wr.ky];
-            const Float4 dz = p[k][wr.kz] - wr.origin[wr.kz];
-            x[k] = dx - wr.sx * dz;
-            y[k] = dy - wr.sy * dz;
-            z[k] = wr.sz * dz;
-        }
-        const Float4 e0 = x[2] * y[1] - y[2] * x[1];
-        const Float4 e1 = x[0] * y[2] - y[0] * x[2];
-        const Float4 e2 = x[1] * y[0] - y[1] * x[0];
-        const auto exact_zero = (e0 == 0.0f) | (e1 == 0.0f) | (e2 == 0.0f);
-        const auto outside =
-            ((e0 < 0.0f) | (e1 < 0.0f) | (e2 < 0.0f)) & ((e0 > 0.0f) | (e1 > 0.0f) | (e2 > 0.0f));
-        const Float4 det = e0 + e1 + e2;
-        const Float4 t_scaled = e0 * z[0] + e1 * z[1] + e2 * z[2];
+    // Bit i of the result set: triangle i is hit within (0, t_max), as `hits` says. Bit i of
+    // `recheck` set: lane i is for intersect_triangle to decide.
+    [[gnu::always_inline]] unsigned intersect(const WatertightRay& wr, float t_max,
+                                              TriangleHits4& hits, unsigned& recheck) const {
+        const WatertightTerms<Float4> w = watertight_terms(wr, p);
+        const auto exact_zero = (w.e0 == 0.0f) | (w.e1 == 0.0f) | (w.e2 == 0.0f);
+        const auto outside = ((w.e0 < 0.0f) | (w.e1 < 0.0f) | (w.e2 < 0.0f)) &
+                             ((w.e0 > 0.0f) | (w.e1 > 0.0f) | (w.e2 > 0.0f));
+        const Float4 det = w.e0 + w.e1 + w.e2;
+        const Float4 t_scaled = w.e0 * w.z[0] + w.e1 * w.z[1] + w.e2 * w.z[2];
         const Float4 t_det = t_max * det;
         const auto in_range = ((det < 0.0f) & (t_scaled < 0.0f) & (t_scaled > t_det)) |
                               ((det > 0.0f) & (t_scaled > 0.0f) & (t_scaled < t_det));
-        const auto pass = exact_zero | (~outside & in_range);
-        return (pass[0] & 1u) | (pass[1] & 2u) | (pass[2] & 4u) | (pass[3] & 8u);
+        recheck = to_mask(exact_zero);
+        const unsigned candidates = to_mask(~exact_zero & ~outside & in_range);
+        if (candidates == 0) return 0;  // the common case: finish only the lanes still in play
+        const Float4 inv_det = 1.0f / det;
+        hits.t = t_scaled * inv_det;
+        hits.u = w.e1 * inv_det;
+        hits.v = w.e2 * inv_det;
+        hits.det = det;
+        return candidates & to_mask(hits.t > watertight_t_error(w, inv_det));
+    }
+
+private:
+    using Mask4 = decltype(Float4{} < Float4{});
+    static unsigned to_mask(Mask4 m) {
+        return (m[0] & 1u) | (m[1] & 2u) | (m[2] & 4u) | (m[3] & 8u);
     }
 };
 static_assert(sizeof(TriangleBlock) == 144);

@@ -138,6 +138,62 @@ TEST(Triangle, BarycentricsAndDistanceMatchClosedForm) {
     EXPECT_NEAR(mt.t, 3.0f, 1e-6f);
 }
 
+TEST(Triangle, FourAtOnceGiveTheSingleTestsBitsExactly) {
+    // TriangleBlock runs intersect_triangle's arithmetic on four triangles at once: every lane
+    // it decides must agree with the scalar test on hit or miss, and on t, the barycentrics and
+    // the side, to the bit. Lanes with an edge function of exactly zero are left to the scalar
+    // test. Half the trials put vertices, origins and targets on a coarse grid, so that rays
+    // run exactly through edges and vertices and such lanes occur; the other half are random.
+    Rng rng(10);
+    auto point = [&](float scale, bool grid) {
+        Vec3 p = scale * Vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f);
+        return grid ? glm::round(p) : p;
+    };
+    int hits = 0, rechecked = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const bool grid = trial % 2 == 0;
+        Vec3 v[4][3];
+        TriangleBlock block;
+        for (int lane = 0; lane < 4; ++lane) {
+            for (Vec3& p : v[lane]) p = point(grid ? 8.0f : 4.0f, grid);
+            block.set(lane, v[lane][0], v[lane][1], v[lane][2]);
+        }
+        for (int r = 0; r < 200; ++r) {
+            const Vec3 origin = point(grid ? 20.0f : 10.0f, grid);
+            const Vec3* aim = v[r % 4];
+            const Vec3 target = grid ? (r % 3 == 0 ? aim[r % 3] : 0.5f * (aim[0] + aim[1]))
+                                     : aim[0] + 0.6f * rng.uniform() * (aim[1] - aim[0]) +
+                                           0.6f * rng.uniform() * (aim[2] - aim[0]);
+            const Ray ray{origin, target - origin, r % 5 == 0 ? 0.5f : kInfinity};
+            const WatertightRay wr(ray);
+            TriangleHits4 th;
+            unsigned recheck = 0;
+            const unsigned mask = block.intersect(wr, ray.t_max, th, recheck);
+            ASSERT_EQ(mask & recheck, 0u);
+            for (int lane = 0; lane < 4; ++lane) {
+                if ((recheck >> lane) & 1u) {
+                    ++rechecked;
+                    continue;
+                }
+                ShapeHit h;
+                const bool hit =
+                    intersect_triangle(wr, v[lane][0], v[lane][1], v[lane][2], ray.t_max, h);
+                ASSERT_EQ(hit, ((mask >> lane) & 1u) != 0) << "trial " << trial << " ray " << r;
+                if (!hit) continue;
+                ++hits;
+                EXPECT_EQ(h.t, th.t[lane]);
+                EXPECT_EQ(h.u, th.u[lane]);
+                EXPECT_EQ(h.v, th.v[lane]);
+                EXPECT_EQ(h.front, th.det[lane] > 0.0f);
+            }
+        }
+    }
+    RecordProperty("hits", hits);
+    RecordProperty("rechecked", rechecked);
+    EXPECT_GT(hits, 15000);      // of 160,000 ray-triangle pairs; a quarter are aimed at theirs
+    EXPECT_GT(rechecked, 1000);  // the grid makes exact zeros common
+}
+
 TEST(Triangle, ClosedMeshHasNoCracksAtSharedEdgesAndVertices) {
     // Rays from inside a closed tessellated sphere, aimed exactly at its vertices and at points
     // on its shared edges: every one must hit some triangle (ACCURACY.md hard case 1).
