@@ -36,9 +36,15 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         has_point_lights_ = true;
     }
     for (uint32_t i = 0; i < scene.area_lights().size(); ++i) {
-        const float p = power_of(scene.area_lights()[i]);
+        const AreaLight& light = scene.area_lights()[i];
+        rectangles_.push_back(std::nullopt);
+        if (light.rectangle) {
+            const Quad& quad = scene.quads()[light.prim.index()];
+            rectangles_.back().emplace(quad.corner, quad.edge_u, quad.edge_v);
+        }
+        const float p = power_of(light);
         if (!(p > 0.0f) || !std::isfinite(p)) continue;
-        light_of_primitive_[scene.area_lights()[i].prim.bits] = lights_.size();
+        light_of_primitive_[light.prim.bits] = lights_.size();
         lights_.push_back({Kind::Area, i});
         power.push_back(p);
     }
@@ -94,7 +100,7 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
                             std::nullopt};
             break;
         }
-        case Kind::Area: s = sample_area(scene_.area_lights()[e.index], at, u); break;
+        case Kind::Area: s = sample_area(e.index, at, u); break;
         case Kind::Environment: {
             const Vec3 wi = sample_uniform_sphere(u);
             s = LightSample{scene_.background, wi,          kInfinity, uniform_sphere_pdf(), false,
@@ -107,8 +113,9 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
     return s;
 }
 
-std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, const SurfacePoint& at,
+std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const SurfacePoint& at,
                                                      const Vec2& u) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
     Vec3 q, n_q, q_error;
     float pdf_solid_angle = 0.0f;
     const PrimRef prim = light.prim;
@@ -152,8 +159,8 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
     } else if (prim.kind() == ShapeKind::Quad) {
         const Quad& quad = scene_.quads()[prim.index()];
         Vec2 ab = u;  // edge coordinates of the point, uniform by area
-        if (light.rectangle) {
-            const SphericalRectangle rect(at.p, quad.corner, quad.edge_u, quad.edge_v);
+        if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
+            const SphericalRectangle rect(at.p, *rectangle);
             if (rect.well_conditioned()) {
                 ab = rect.sample(u);  // uniform in solid angle instead
                 pdf_solid_angle = spherical_rectangle_pdf(rect);
@@ -194,8 +201,9 @@ std::optional<LightSample> LightSampler::sample_area(const AreaLight& light, con
                        prim};
 }
 
-float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& q,
+float LightSampler::area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q,
                              const Vec3& n_q) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
     const Vec3 d = q - p;
     const float d2 = glm::dot(d, d);
     if (!(d2 > 0.0f)) return 0.0f;
@@ -211,9 +219,8 @@ float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& 
         const float sin2_max = r2 / dc2;
         return uniform_cone_pdf(cone_one_minus_cos(sin2_max));
     }
-    if (light.rectangle) {
-        const Quad& quad = scene_.quads()[light.prim.index()];
-        const SphericalRectangle rect(p, quad.corner, quad.edge_u, quad.edge_v);
+    if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
+        const SphericalRectangle rect(p, *rectangle);
         if (rect.well_conditioned()) return spherical_rectangle_pdf(rect);
     }
     return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
@@ -222,8 +229,8 @@ float LightSampler::area_pdf(const AreaLight& light, const Vec3& p, const Vec3& 
 float LightSampler::pdf(const Vec3& p, const SurfaceInteraction& light_hit) const {
     const auto it = light_of_primitive_.find(light_hit.prim.bits);
     if (it == light_of_primitive_.end()) return 0.0f;
-    const AreaLight& light = scene_.area_lights()[lights_[it->second].index];
-    return choice_probability(it->second) * area_pdf(light, p, light_hit.p, light_hit.n_geo);
+    return choice_probability(it->second) *
+           area_pdf(lights_[it->second].index, p, light_hit.p, light_hit.n_geo);
 }
 
 }  // namespace lessons

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "math.h"
+#include "sampling.h"
 #include "scene.h"
 #include "spawn.h"
 
@@ -72,14 +73,17 @@ private:
         uint32_t index;  // into scene.point_lights() or scene.area_lights()
     };
     float choice_probability(size_t light) const;
-    std::optional<LightSample> sample_area(const AreaLight& light, const SurfacePoint& at,
+    // Both take an index into scene.area_lights().
+    std::optional<LightSample> sample_area(uint32_t area_light, const SurfacePoint& at,
                                            const Vec2& u) const;
-    float area_pdf(const AreaLight& light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
+    float area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
 
     const Scene& scene_;
     std::vector<Entry> lights_;
     std::vector<float> cdf_;  // cumulative choice probabilities, cdf_.back() == 1
     std::unordered_map<uint32_t, size_t> light_of_primitive_;
+    // Per area light: its rectangle, for those sampled by solid angle (AreaLight::rectangle).
+    std::vector<std::optional<Rectangle>> rectangles_;
     std::optional<size_t> environment_;
     bool has_point_lights_ = false;
 };

@@ -85,6 +85,20 @@ inline Vec2 sample_uniform_triangle(const Vec2& u) {
     return {s * (1.0f - u.y), s * u.y};
 }
 
+// A rectangle in the form SphericalRectangle reads: a corner, the unit directions of its two
+// orthogonal edges, their lengths, and the unit normal z = x cross y. Lights keep one each, so
+// that a light sample does not normalise the edges again.
+struct Rectangle {
+    Vec3 corner, x, y, z;
+    float length_x, length_y;
+    Rectangle(const Vec3& corner_, const Vec3& edge_u, const Vec3& edge_v)
+        : corner(corner_), length_x(glm::length(edge_u)), length_y(glm::length(edge_v)) {
+        x = edge_u / length_x;
+        y = edge_v / length_y;
+        z = glm::cross(x, y);
+    }
+};
+
 // Uniform direction towards a rectangle, i.e. by solid angle (Urena, Fajardo and King, "An
 // Area-Preserving Parametrization for Spherical Rectangles", EGSR 2013): p(w) = 1 / Omega, with
 // Omega the solid angle the rectangle subtends at o. Seen from o, the rectangle is a spherical
@@ -95,35 +109,49 @@ inline Vec2 sample_uniform_triangle(const Vec2& u) {
 // along that column uniform in solid angle. Compared with a point uniform by area (p_A d^2 /
 // cos(theta_l)), the estimate f L cos / p loses the factor 1 / d^2 cos(theta_l), which is
 // unbounded for points close to the light's plane.
+// The angles are added as complex numbers, cos g + i sin g, multiplied: the argument of the
+// product of the four is Omega (the 2 pi drops out), found by one atan2 instead of four acos.
 class SphericalRectangle {
 public:
-    // The rectangle corner + a edge_u + b edge_v, a and b in [0, 1], with edge_u orthogonal to
-    // edge_v, seen from o.
-    SphericalRectangle(const Vec3& o, const Vec3& corner, const Vec3& edge_u, const Vec3& edge_v) {
-        const float length_u = glm::length(edge_u), length_v = glm::length(edge_v);
-        const Vec3 x = edge_u / length_u, y = edge_v / length_v;
-        const Vec3 d = corner - o;
-        z0_ = -std::fabs(glm::dot(d, glm::cross(x, y)));  // the side of o is the frame's +z
-        x0_ = glm::dot(d, x);
-        y0_ = glm::dot(d, y);
-        x1_ = x0_ + length_u;
-        y1_ = y0_ + length_v;
-        length_u_ = length_u;
-        length_v_ = length_v;
-        // Unit normals of the planes through o and each edge; their z components give the
-        // angles between neighbouring planes (the other components meet zeros).
-        auto z_of = [](float a, float b) { return b / std::sqrt(a * a + b * b); };
-        const float n0z = z_of(z0_, -y0_), n1z = z_of(z0_, x1_);
-        const float n2z = z_of(z0_, y1_), n3z = z_of(z0_, -x0_);
-        const float g0 = std::acos(std::clamp(-n0z * n1z, -1.0f, 1.0f));
-        const float g1 = std::acos(std::clamp(-n1z * n2z, -1.0f, 1.0f));
-        const float g2 = std::acos(std::clamp(-n2z * n3z, -1.0f, 1.0f));
-        const float g3 = std::acos(std::clamp(-n3z * n0z, -1.0f, 1.0f));
-        b0_ = n0z;
-        b1_ = n2z;
-        k_ = 2.0f * kPi - g2 - g3;
-        solid_angle_ = g0 + g1 - k_;
+    SphericalRectangle(const Vec3& o, const Rectangle& r) {
+        const Vec3 d = r.corner - o;
+        z0_ = -std::fabs(glm::dot(d, r.z));  // the side of o is the frame's +z
+        x0_ = glm::dot(d, r.x);
+        y0_ = glm::dot(d, r.y);
+        x1_ = x0_ + r.length_x;
+        y1_ = y0_ + r.length_y;
+        length_x_ = r.length_x;
+        length_y_ = r.length_y;
+        // The planes through o and each edge have unit normals n0 .. n3 (n0 through the edge at
+        // y0, then around), whose z components b = n.z give the interior angles:
+        // cos g0 = -n0.z n1.z, and so on around. With l and r the distances from o to an edge's
+        // line and to a corner, cos g0 = y0 x1 / (l0 l1) and sin g0 = |z0| r(x1, y0) / (l0 l1);
+        // the positive factors 1 / (l l) change no angle and are left out. Angles do not change
+        // with scale either: the coordinates are divided by the largest, so that the product of
+        // four cannot overflow.
+        const float scale = 1.0f / std::max({std::fabs(x0_), std::fabs(x1_), std::fabs(y0_),
+                                             std::fabs(y1_), std::fabs(z0_)});
+        const float x0 = x0_ * scale, x1 = x1_ * scale, y0 = y0_ * scale, y1 = y1_ * scale;
+        const float z = z0_ * scale;
+        auto corner_distance = [z](float x, float y) { return std::sqrt(x * x + y * y + z * z); };
+        const Complex w0{y0 * x1, -z * corner_distance(x1, y0)};
+        const Complex w1{-x1 * y1, -z * corner_distance(x1, y1)};
+        const Complex w2{x0 * y1, -z * corner_distance(x0, y1)};
+        const Complex w3{-x0 * y0, -z * corner_distance(x0, y0)};
+        const Complex g23 = w2 * w3;  // g2 + g3
+        const Complex all = (w0 * w1) * g23;
+        solid_angle_ = std::atan2(all.im, all.re);
+        if (solid_angle_ <= 0.0f) solid_angle_ += 2.0f * kPi;  // Omega lies in (0, 2 pi)
+        // k = 2 pi - g2 - g3, the angle where the columns start, as cos k + i sin k.
+        const float g23_length = std::sqrt(g23.re * g23.re + g23.im * g23.im);
+        cos_k_ = g23.re / g23_length;
+        sin_k_ = -g23.im / g23_length;
+        b0_ = -y0 / std::sqrt(z * z + y0 * y0);
+        b1_ = y1 / std::sqrt(z * z + y1 * y1);
     }
+    // The same for a rectangle given by a corner and two orthogonal edges.
+    SphericalRectangle(const Vec3& o, const Vec3& corner, const Vec3& edge_u, const Vec3& edge_v)
+        : SphericalRectangle(o, Rectangle(corner, edge_u, edge_v)) {}
 
     float solid_angle() const { return solid_angle_; }
     // Whether sampling by solid angle is accurate here: not for a tiny solid angle (the excess
@@ -136,9 +164,13 @@ public:
     // The point where a direction uniform in solid angle meets the rectangle, as its edge
     // coordinates (a, b) in [0, 1]^2.
     Vec2 sample(const Vec2& u) const {
-        // The column xu whose left part [x0, xu] subtends u.x Omega.
-        const float au = u.x * solid_angle_ + k_;
-        const float fu = (std::cos(au) * b0_ - b1_) / std::sin(au);
+        // The column xu whose left part [x0, xu] subtends u.x Omega: at angle au = u.x Omega + k,
+        // turned from k by u.x Omega.
+        const float phi = u.x * solid_angle_;
+        const float cos_phi = std::cos(phi), sin_phi = std::sin(phi);
+        const float cos_au = cos_phi * cos_k_ - sin_phi * sin_k_;
+        const float sin_au = sin_phi * cos_k_ + cos_phi * sin_k_;
+        const float fu = (cos_au * b0_ - b1_) / sin_au;
         const float cu =
             std::clamp(std::copysign(1.0f, fu) / std::sqrt(fu * fu + b0_ * b0_), -1.0f, 1.0f);
         const float sin_u = std::sqrt(std::max(0.0f, 1.0f - cu * cu));
@@ -151,13 +183,19 @@ public:
         const float hv = h0 + u.y * (h1 - h0);
         const float hv2 = hv * hv;
         const float yv = hv2 < 1.0f - 1e-6f ? hv * dist / std::sqrt(1.0f - hv2) : y1_;
-        return {std::clamp((xu - x0_) / length_u_, 0.0f, 1.0f),
-                std::clamp((yv - y0_) / length_v_, 0.0f, 1.0f)};
+        return {std::clamp((xu - x0_) / length_x_, 0.0f, 1.0f),
+                std::clamp((yv - y0_) / length_y_, 0.0f, 1.0f)};
     }
 
 private:
-    float x0_, x1_, y0_, y1_, z0_, length_u_, length_v_;
-    float b0_, b1_, k_, solid_angle_;
+    struct Complex {
+        float re, im;
+        Complex operator*(const Complex& o) const {
+            return {re * o.re - im * o.im, re * o.im + im * o.re};
+        }
+    };
+    float x0_, x1_, y0_, y1_, z0_, length_x_, length_y_;
+    float b0_, b1_, cos_k_, sin_k_, solid_angle_;
 };
 inline float spherical_rectangle_pdf(const SphericalRectangle& r) {
     return 1.0f / r.solid_angle();
