@@ -3,7 +3,9 @@
 // an RGB triple of linear values in W / (sr m^2) per channel.
 #pragma once
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -39,6 +41,19 @@ inline constexpr float gamma_bound(int n) {
     return n * u / (1.0f - n * u);
 }
 
+// The next float above v, as std::nextafter(v, +inf) gives it, inline (each ray origin takes
+// three, and the library call costs more than the rest of the offset): floats of one sign are
+// ordered as their bit patterns, so one step is one unit of the pattern.
+inline float next_float_up(float v) {
+    if (std::isnan(v) || v == kInfinity) return v;
+    if (v == 0.0f) return std::numeric_limits<float>::denorm_min();  // from +0 and from -0
+    const uint32_t bits = std::bit_cast<uint32_t>(v);
+    return std::bit_cast<float>(v > 0.0f ? bits + 1 : bits - 1);
+}
+// The next float below v: std::nextafter(v, -inf).
+inline float next_float_down(float v) {
+    return -next_float_up(-v);
+}
 inline float max_component(const Vec3& v) {
     return std::fmax(v.x, std::fmax(v.y, v.z));
 }

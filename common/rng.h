@@ -64,26 +64,25 @@ public:
     }
 
 private:
+    // In 64-bit fixed point, where frac() is the wrap-around of unsigned addition: the value's
+    // bits are shift + i alpha modulo 2^64, and its top 24 bits the float.
     float kronecker_value(int d) const {
-        const double shift =
-            static_cast<double>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 11) * 0x1p-53;
-        const double alpha = kronecker_alpha(d);
-        double v = shift + static_cast<double>(sample_ % (uint64_t{1} << 40)) * alpha;
-        v -= std::floor(v);
-        return std::min(static_cast<float>(v), 0x1.fffffep-1f);  // never 1 after rounding
+        const uint64_t shift = mix_bits(key_ + static_cast<uint64_t>(d));
+        const uint64_t v = shift + sample_ * kronecker_alpha(d);
+        return static_cast<float>(v >> 40) * 0x1p-24f;
     }
-    // frac(sqrt(p)) for the first kKroneckerDims primes: irrational and independent over the
-    // rationals, so every pair of dimensions is equidistributed.
-    static double kronecker_alpha(int d) {
+    // frac(sqrt(p)) for the first kKroneckerDims primes, times 2^64: irrational and independent
+    // over the rationals, so every pair of dimensions is equidistributed.
+    static uint64_t kronecker_alpha(int d) {
         static const auto alphas = [] {
-            std::array<double, kKroneckerDims> a{};
+            std::array<uint64_t, kKroneckerDims> a{};
             int found = 0;
             for (int n = 2; found < kKroneckerDims; ++n) {
                 bool prime = true;
                 for (int k = 2; k * k <= n; ++k) prime = prime && n % k != 0;
                 if (!prime) continue;
                 const double r = std::sqrt(static_cast<double>(n));
-                a[found++] = r - std::floor(r);
+                a[found++] = static_cast<uint64_t>(std::ldexp(r - std::floor(r), 64));
             }
             return a;
         }();

@@ -33,9 +33,9 @@ inline Vec3 offset_ray_origin(const SurfacePoint& s, const Vec3& w) {
     // One more float step along n in each axis (also when the error bound is zero).
     for (int i = 0; i < 3; ++i) {
         if (n[i] > 0.0f)
-            out[i] = std::nextafter(out[i], kInfinity);
+            out[i] = next_float_up(out[i]);
         else if (n[i] < 0.0f)
-            out[i] = std::nextafter(out[i], -kInfinity);
+            out[i] = next_float_down(out[i]);
     }
     return out;
 }

@@ -2,7 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
 #include <set>
+#include <vector>
 
 #include "bounds.h"
 #include "math.h"
@@ -93,6 +97,36 @@ TEST(Rng, KroneckerSamplesOfAPixelSpreadEvenly) {
     // Past kKroneckerDims the values come from PCG32, and the same triple repeats exactly.
     Rng a = Rng::kronecker(1, 2, 3), b = Rng::kronecker(1, 2, 3);
     for (int i = 0; i < Rng::kKroneckerDims + 10; ++i) ASSERT_EQ(a.uniform(), b.uniform());
+}
+
+TEST(NextFloat, StepsAsStdNextafterDoesEverywhere) {
+    // Ray origins step one float off the surface with next_float_up/down, an inline bit
+    // manipulation: it must give std::nextafter's bits for zeros of both signs, denormals, the
+    // largest floats, infinities, NaN and ordinary values of every sign and exponent.
+    const float max = std::numeric_limits<float>::max();
+    const float tiny = std::numeric_limits<float>::denorm_min();
+    std::vector<float> values = {
+        0.0f,  -0.0f, tiny,      -tiny,      1e-40f, -1e-40f, std::numeric_limits<float>::min(),
+        max,   -max,  kInfinity, -kInfinity, 1.0f,   -1.0f,   555.0f,
+        -1e30f};
+    Rng rng(12);
+    for (int i = 0; i < 10000; ++i)
+        values.push_back(std::bit_cast<float>(static_cast<uint32_t>(rng.next_u32())));
+    int checked = 0;
+    for (float v : values) {
+        if (std::isnan(v)) {
+            EXPECT_TRUE(std::isnan(next_float_up(v)) && std::isnan(next_float_down(v)));
+            continue;
+        }
+        ++checked;
+        EXPECT_EQ(std::bit_cast<uint32_t>(next_float_up(v)),
+                  std::bit_cast<uint32_t>(std::nextafter(v, kInfinity)))
+            << v;
+        EXPECT_EQ(std::bit_cast<uint32_t>(next_float_down(v)),
+                  std::bit_cast<uint32_t>(std::nextafter(v, -kInfinity)))
+            << v;
+    }
+    EXPECT_GT(checked, 9000);
 }
 
 TEST(Bounds, SurfaceAreaAndUnion) {
