@@ -65,10 +65,11 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "hits from dot(d, n)), shading-normals (no fallback below an interpolated "
                    "normal), light-cosine (|cos| at one-sided lights); comma-separated")
         ->delimiter(',');
-    app.add_option("--sampler", o.sampler,
-                   "Where each sample's random numbers come from: independent (PCG32, the "
-                   "default) or kronecker (a randomised Kronecker sequence per pixel: stratified, "
-                   "still unbiased)")
+    app.add_option(
+           "--sampler", o.sampler,
+           "Where each sample's random numbers come from: independent (PCG32, the "
+           "default) or kronecker (a randomised Kronecker sequence per pixel, the positions "
+           "in the pixel from a scrambled Sobol sequence: stratified, still unbiased)")
         ->check(CLI::IsMember({"independent", "kronecker"}));
     app.add_option("--clamp", o.clamp,
                    "Clamp each sample's luminance to this value (removes fireflies; biased, and "

@@ -39,6 +39,12 @@ public:
     // Every value is still uniform on [0, 1), so estimates stay unbiased, but the samples of one
     // pixel spread evenly over each dimension instead of clumping. Values past kKroneckerDims
     // come from PCG32. (--sampler kronecker; docs/performance.md.)
+    // The first two values, which place the sample in its pixel, come from the first two
+    // dimensions of Sobol's sequence instead, each XORed with a hash of (seed, pixel, d) (a
+    // random digital shift, which keeps every value uniform): any first 2^k samples of a pixel
+    // then form a (0, k, 2)-net, one point in each of the 2^k boxes of area 2^-k with power-of-
+    // two sides. Across an edge in the image (a lamp's outline) the net's error falls faster
+    // with the sample count than the lattice's.
     static Rng kronecker(uint64_t seed, uint64_t pixel_index, uint64_t sample_index) {
         Rng rng(seed, pixel_index, sample_index);
         rng.kronecker_ = true;
@@ -47,6 +53,7 @@ public:
         return rng;
     }
     static constexpr int kKroneckerDims = 64;
+    static constexpr int kSobolDims = 2;
 
     uint32_t next_u32() {
         const uint64_t old = state_;
@@ -59,11 +66,32 @@ public:
     // Uniform in [0, 1): the top 24 bits scaled by 2^-24, so the largest value is 1 - 2^-24,
     // exactly representable and strictly below 1.
     float uniform() {
+        if (kronecker_ && dimension_ < kSobolDims) return sobol_value(dimension_++);
         if (kronecker_ && dimension_ < kKroneckerDims) return kronecker_value(dimension_++);
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
     }
 
 private:
+    // Dimension 0 of Sobol's sequence is the van der Corput sequence, sample i's bits mirrored
+    // about the binary point; dimension 1 has the generator columns v_1 = 1/2,
+    // v_k = v_{k-1} XOR v_{k-1}/2 (Pascal's triangle mod 2), XORed together for the bits set in i.
+    float sobol_value(int d) const {
+        const auto i = static_cast<uint32_t>(sample_);
+        uint32_t bits = 0;
+        if (d == 0) {
+            bits = i;
+            bits = (bits << 16) | (bits >> 16);
+            bits = ((bits & 0x00ff00ffu) << 8) | ((bits & 0xff00ff00u) >> 8);
+            bits = ((bits & 0x0f0f0f0fu) << 4) | ((bits & 0xf0f0f0f0u) >> 4);
+            bits = ((bits & 0x33333333u) << 2) | ((bits & 0xccccccccu) >> 2);
+            bits = ((bits & 0x55555555u) << 1) | ((bits & 0xaaaaaaaau) >> 1);
+        } else {
+            for (uint32_t v = 1u << 31, rest = i; rest != 0; rest >>= 1, v ^= v >> 1)
+                if (rest & 1u) bits ^= v;
+        }
+        bits ^= static_cast<uint32_t>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 32);
+        return static_cast<float>(bits >> 8) * 0x1p-24f;
+    }
     // In 64-bit fixed point, where frac() is the wrap-around of unsigned addition: the value's
     // bits are shift + i alpha modulo 2^64, and its top 24 bits the float.
     float kronecker_value(int d) const {

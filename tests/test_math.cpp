@@ -65,9 +65,10 @@ TEST(Rng, DifferentPixelsAndSamplesGiveDifferentSequences) {
 }
 
 TEST(Rng, KroneckerSamplesOfAPixelSpreadEvenly) {
-    // 64 samples of one pixel: in each of the first four dimensions the Kronecker values leave no
-    // gap in [0, 1) wider than 4/64 (three-gap theorem: frac(sqrt(p)) has small continued-fraction
-    // terms); independent values leave gaps of about ln(64)/64 ~ 4.2/64 on average, often far more.
+    // 64 samples of one pixel: in each of the first four dimensions the sampler's values (Sobol's
+    // in the first two, Kronecker's in the next) leave no gap in [0, 1) wider than 4/64 (three-gap
+    // theorem: frac(sqrt(p)) has small continued-fraction terms); independent values leave gaps of
+    // about ln(64)/64 ~ 4.2/64 on average, often far more.
     int independent_wide = 0;
     for (uint64_t pixel = 0; pixel < 50; ++pixel) {
         std::vector<std::vector<float>> kronecker(4), independent(4);
@@ -127,6 +128,35 @@ TEST(NextFloat, StepsAsStdNextafterDoesEverywhere) {
             << v;
     }
     EXPECT_GT(checked, 9000);
+}
+
+TEST(Rng, TheKroneckerSamplersPositionsInAPixelFormANet) {
+    // The first two values of Rng::kronecker (where a sample lies in its pixel) come from Sobol's
+    // sequence with a random digital shift: the first 2^k samples of a pixel form a
+    // (0, k, 2)-net, exactly one point in each box [a 2^-j, (a + 1) 2^-j) x [b 2^-(k-j), ...).
+    // Independent points fail this at once; a Kronecker lattice fails it too.
+    for (int k : {4, 6, 8}) {
+        const int n = 1 << k;
+        for (uint64_t pixel = 0; pixel < 20; ++pixel) {
+            std::vector<Vec2> points;
+            for (int s = 0; s < n; ++s) {
+                Rng rng = Rng::kronecker(5, pixel, static_cast<uint64_t>(s));
+                const float x = rng.uniform();
+                points.push_back({x, rng.uniform()});
+            }
+            for (int j = 0; j <= k; ++j) {
+                std::vector<int> count(static_cast<size_t>(n), 0);
+                for (const Vec2& p : points) {
+                    const int a = static_cast<int>(p.x * static_cast<float>(1 << j));
+                    const int b = static_cast<int>(p.y * static_cast<float>(1 << (k - j)));
+                    ++count[static_cast<size_t>(a * (1 << (k - j)) + b)];
+                }
+                for (int c : count)
+                    ASSERT_EQ(c, 1) << n << " samples, pixel " << pixel << ", boxes 2^-" << j
+                                    << " x 2^-" << k - j;
+            }
+        }
+    }
 }
 
 TEST(Bounds, SurfaceAreaAndUnion) {
