@@ -116,7 +116,7 @@ SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit) {
     return g;
 }
 
-WatertightRay::WatertightRay(const Ray& ray) : origin(ray.origin) {
+WatertightRay::WatertightRay(const Ray& ray) {
     const Vec3 ad = glm::abs(ray.dir);
     kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
     kx = (kz + 1) % 3;
@@ -125,6 +125,9 @@ WatertightRay::WatertightRay(const Ray& ray) : origin(ray.origin) {
     sx = ray.dir[kx] / ray.dir[kz];
     sy = ray.dir[ky] / ray.dir[kz];
     sz = 1.0f / ray.dir[kz];
+    ox = ray.origin[kx];
+    oy = ray.origin[ky];
+    oz = ray.origin[kz];
 }
 
 bool intersect_triangle_moller_trumbore(const Ray& ray, const Vec3& p0, const Vec3& p1,

@@ -150,7 +150,8 @@ SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit);
 // through an edge or vertex of a closed mesh hits at least one of the triangles around it.
 // The per-ray shear is computed once per ray, not once per triangle.
 struct WatertightRay {
-    Vec3 origin;
+    float ox, oy, oz;           // the origin's coordinates along axes kx, ky, kz (kept permuted,
+                                // so that no test indexes a vector by a runtime axis)
     int kx, ky, kz;             // permutation that makes the largest direction component z
     float sx, sy, sz;           // shear coefficients
     WatertightRay() = default;  // unset: for scenes without triangles
@@ -173,9 +174,9 @@ template <class T>
                                                                   const T (&p)[3][3]) {
     WatertightTerms<T> w;
     for (int k = 0; k < 3; ++k) {
-        const T dx = p[k][wr.kx] - wr.origin[wr.kx];
-        const T dy = p[k][wr.ky] - wr.origin[wr.ky];
-        const T dz = p[k][wr.kz] - wr.origin[wr.kz];
+        const T dx = p[k][wr.kx] - wr.ox;
+        const T dy = p[k][wr.ky] - wr.oy;
+        const T dz = p[k][wr.kz] - wr.oz;
         w.x[k] = dx - wr.sx * dz;
         w.y[k] = dy - wr.sy * dz;
         w.z[k] = wr.sz * dz;
