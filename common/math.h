@@ -41,9 +41,9 @@ inline constexpr float gamma_bound(int n) {
     return n * u / (1.0f - n * u);
 }
 
-// The next float above v, as std::nextafter(v, +inf) gives it, inline (each ray origin takes
-// three, and the library call costs more than the rest of the offset): floats of one sign are
-// ordered as their bit patterns, so one step is one unit of the pattern.
+// The next float above v, as std::nextafter(v, +inf) gives it (NaN stays a NaN), inline (each ray
+// origin takes three, and the library call costs more than the rest of the offset): floats of one
+// sign are ordered as their bit patterns, so one step is one unit of the pattern.
 inline float next_float_up(float v) {
     if (std::isnan(v) || v == kInfinity) return v;
     if (v == 0.0f) return std::numeric_limits<float>::denorm_min();  // from +0 and from -0

@@ -140,12 +140,18 @@ public:
         const Complex w3{-x0 * y0, -z * corner_distance(x0, y0)};
         const Complex g23 = w2 * w3;  // g2 + g3
         const Complex all = (w0 * w1) * g23;
+        // Omega lies in (0, 2 pi). Within rounding of 0 (a tiny rectangle, or o almost in its
+        // plane) atan2 may give either side of 0, hence a value near 0 or near 2 pi: both are
+        // outside what well_conditioned() accepts.
         solid_angle_ = std::atan2(all.im, all.re);
-        if (solid_angle_ <= 0.0f) solid_angle_ += 2.0f * kPi;  // Omega lies in (0, 2 pi)
+        if (solid_angle_ <= 0.0f) solid_angle_ += 2.0f * kPi;
         // k = 2 pi - g2 - g3, the angle where the columns start, as cos k + i sin k.
         const float g23_length = std::sqrt(g23.re * g23.re + g23.im * g23.im);
         cos_k_ = g23.re / g23_length;
         sin_k_ = -g23.im / g23_length;
+        // o in the rectangle's plane sees no solid angle; g2 + g3 is undefined when o lies on
+        // the line of an edge there.
+        if (!(z < 0.0f) || !(g23_length > 0.0f)) solid_angle_ = 0.0f;
         b0_ = -y0 / std::sqrt(z * z + y0 * y0);
         b1_ = y1 / std::sqrt(z * z + y1 * y1);
     }

