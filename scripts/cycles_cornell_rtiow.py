@@ -99,33 +99,31 @@ def clear_scene():
             blocks.remove(block)
 
 
-def diffuse_material(name, albedo):
+def node_material(name, shader_type, inputs):
+    """A Cycles material whose surface is one shader node, with the given input values."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
     nodes, links = m.node_tree.nodes, m.node_tree.links
     nodes.clear()
-    bsdf = nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*albedo, 1.0)  # linear RGB, as in the TOML file
-    bsdf.inputs["Roughness"].default_value = 0.0  # Lambertian, not Oren-Nayar
+    shader = nodes.new(shader_type)
+    for key, value in inputs.items():
+        shader.inputs[key].default_value = value
     out = nodes.new("ShaderNodeOutputMaterial")
     out.target = "CYCLES"
-    links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
+    links.new(shader.outputs[0], out.inputs["Surface"])
     return m
+
+
+def diffuse_material(name, albedo):
+    # Linear RGB, as in the TOML file; roughness 0: Lambertian, not Oren-Nayar.
+    return node_material(
+        name, "ShaderNodeBsdfDiffuse", {"Color": (*albedo, 1.0), "Roughness": 0.0})
 
 
 def emission_material(name, strength):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nodes, links = m.node_tree.nodes, m.node_tree.links
-    nodes.clear()
-    emission = nodes.new("ShaderNodeEmission")
-    emission.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     # A Cycles mesh emitter's radiance is color * strength, on both sides of the surface.
-    emission.inputs["Strength"].default_value = strength
-    out = nodes.new("ShaderNodeOutputMaterial")
-    out.target = "CYCLES"
-    links.new(emission.outputs["Emission"], out.inputs["Surface"])
-    return m
+    return node_material(
+        name, "ShaderNodeEmission", {"Color": (1.0, 1.0, 1.0, 1.0), "Strength": strength})
 
 
 def add_quads(name, quads, material):

@@ -267,25 +267,22 @@ TEST(HardCases, SmallptSphereWallsAreNeverReHitByRaysLeavingThem) {
     auto self_hits = [&](int& leaving) {
         int again = 0;
         leaving = 0;
-        for (int y = 0; y < 48; ++y)
-            for (int x = 0; x < 64; ++x) {
-                const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
-                const std::optional<Hit> hit = scene.intersect(ray);
-                if (!hit || hit->prim.kind() != ShapeKind::Sphere ||
-                    scene.spheres()[hit->prim.index()].radius < 1e4f)
-                    continue;
-                const SurfaceInteraction si = scene.interaction(ray, *hit);
-                const Frame frame(si.front_face() ? si.n_geo : -si.n_geo);
-                for (int k = 0; k < 16; ++k) {
-                    Rng rng(5, static_cast<uint32_t>(y * 64 + x), static_cast<uint32_t>(k));
-                    const Vec3 wi = frame.to_world(
-                        sample_cosine_hemisphere(Vec2(rng.uniform(), rng.uniform())));
-                    const std::optional<Hit> next =
-                        scene.intersect(spawn_ray(si.surface_point(), wi));
-                    ++leaving;
-                    again += next && next->prim == hit->prim;
-                }
+        test::for_each_pixel_center(scene.camera, 64, 48, [&](int x, int y, const Ray& ray) {
+            const std::optional<Hit> hit = scene.intersect(ray);
+            if (!hit || hit->prim.kind() != ShapeKind::Sphere ||
+                scene.spheres()[hit->prim.index()].radius < 1e4f)
+                return;
+            const SurfaceInteraction si = scene.interaction(ray, *hit);
+            const Frame frame(si.front_face() ? si.n_geo : -si.n_geo);
+            for (int k = 0; k < 16; ++k) {
+                Rng rng(5, static_cast<uint32_t>(y * 64 + x), static_cast<uint32_t>(k));
+                const Vec3 wi =
+                    frame.to_world(sample_cosine_hemisphere(Vec2(rng.uniform(), rng.uniform())));
+                const std::optional<Hit> next = scene.intersect(spawn_ray(si.surface_point(), wi));
+                ++leaving;
+                again += next && next->prim == hit->prim;
             }
+        });
         return again;
     };
     int rays = 0;
@@ -402,14 +399,12 @@ TEST(HardCases, LowPolySmoothSphereHasNoBlackSilhouette) {
             render_scene(scene, make_reflection_model(scene, lights, {}), 16, settings);
         int black = 0;
         on_sphere = 0;
-        for (int y = 0; y < 48; ++y)
-            for (int x = 0; x < 64; ++x) {
-                const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 48);
-                const std::optional<Hit> hit = scene.intersect(ray);
-                if (!hit || hit->prim.kind() != ShapeKind::Triangle) continue;
-                ++on_sphere;
-                black += is_black(r.image.at(x, y));
-            }
+        test::for_each_pixel_center(scene.camera, 64, 48, [&](int x, int y, const Ray& ray) {
+            const std::optional<Hit> hit = scene.intersect(ray);
+            if (!hit || hit->prim.kind() != ShapeKind::Triangle) return;
+            ++on_sphere;
+            black += is_black(r.image.at(x, y));
+        });
         return black;
     };
     int on_sphere = 0;

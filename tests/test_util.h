@@ -12,6 +12,15 @@
 
 namespace lessons::test {
 
+// Calls fn(x, y, ray) for the ray through the center of every pixel of a width x height image,
+// row by row: the rays that a render without jitter traces first.
+template <class Fn>
+void for_each_pixel_center(const Camera& camera, int width, int height, Fn&& fn) {
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            fn(x, y, camera.generate_ray(x + 0.5f, y + 0.5f, width, height));
+}
+
 inline Vec3 random_unit_vector(Rng& rng) {
     return sample_uniform_sphere({rng.uniform(), rng.uniform()});
 }

@@ -72,12 +72,10 @@ TEST(Whitted, ClosedGlassSphereInUniformBackgroundRendersOne) {
     const Image image = render_centers(scene, exact);
     int covered = 0;
     float worst = 0.0f;
-    for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) {
-            covered +=
-                scene.intersect(scene.camera.generate_ray(x + 0.5f, y + 0.5f, 64, 64)).has_value();
-            worst = std::max(worst, std::fabs(image.at(x, y).x - 1.0f));
-        }
+    test::for_each_pixel_center(scene.camera, 64, 64, [&](int x, int y, const Ray& ray) {
+        covered += scene.intersect(ray).has_value();
+        worst = std::max(worst, std::fabs(image.at(x, y).x - 1.0f));
+    });
     EXPECT_GT(covered, 1000);
     EXPECT_LT(worst, 1e-5f);
     // With the default limits the image is still 1 within 1% everywhere.
@@ -104,14 +102,11 @@ TEST(Whitted, GlassSlabAtGrazingAnglesRendersOne) {
     const Image image = render_centers(scene, exact);
     int covered = 0;
     float worst = 0.0f;
-    for (int y = 0; y < 32; ++y)
-        for (int x = 0; x < 96; ++x) {
-            const Ray r = scene.camera.generate_ray(x + 0.5f, y + 0.5f, 96, 32);
-            if (!scene.intersect(r)) continue;
-            ++covered;
-            for (int c = 0; c < 3; ++c)
-                worst = std::max(worst, std::fabs(image.at(x, y)[c] - 1.0f));
-        }
+    test::for_each_pixel_center(scene.camera, 96, 32, [&](int x, int y, const Ray& ray) {
+        if (!scene.intersect(ray)) return;
+        ++covered;
+        for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(image.at(x, y)[c] - 1.0f));
+    });
     EXPECT_GT(covered, 200);
     EXPECT_LT(worst, 1e-4f);
 }
