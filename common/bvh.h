@@ -5,9 +5,10 @@
 //
 // Build: top-down, binned surface-area heuristic (Wald 2007). At each node the centroids are
 // binned along each axis; the split minimising
-//     cost = C_trav + (A_left N_left + A_right N_right) / A_node      (C_isect = 1)
+//     cost = C_trav + (A_left B(N_left) + A_right B(N_right)) / A_node,   B(n) = ceil(n / 4)
 // is taken. A node of at most four primitives is always a leaf: a leaf's triangles are tested
-// together, four at once (TriangleBlock), for about the cost of one test.
+// together, four at once (TriangleBlock), for about the cost of one test, so the cost counts
+// blocks of four (B), not primitives: the heuristic then prefers full leaves.
 // Layout: the binary tree is then collapsed into an 8-wide one (Dammertz et al., "Shallow
 // Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", 2008; Embree's
 // BVH8): a node holds the boxes of up to eight children side by side, the x minima of all eight,
@@ -35,7 +36,8 @@ namespace lessons {
 // Children per node: 8, so that a node's boxes fill 256-bit (AVX) registers. Without AVX the
 // compiler splits each operation in two SSE halves; the code is the same.
 constexpr int kBvhWidth = 8;
-using BoxLanes = float __attribute__((vector_size(4 * kBvhWidth)));
+using BoxLanes = Float8;
+static_assert(kBvhWidth == 8);
 
 struct alignas(64) BvhNode {
     // bounds[2 axis] holds the eight children's minima along the axis, bounds[2 axis + 1] their
@@ -67,7 +69,7 @@ struct BoxRay {
     explicit BoxRay(const Ray& ray) : origin(ray.origin) {
         for (int i = 0; i < 3; ++i) {
             inv_dir[i] = 1.0f / ray.dir[i];  // +-inf for a zero component, handled below
-            dir_negative[i] = ray.dir[i] < 0.0f || std::signbit(ray.dir[i]);
+            dir_negative[i] = std::signbit(ray.dir[i]);  // also -0: its inverse is -inf
         }
     }
 };
@@ -94,10 +96,7 @@ struct BoxHits {
         t_near = t0 > t_near ? t0 : t_near;
         t_far = t1 < t_far ? t1 : t_far;
     }
-    const auto enters = t_near <= t_far;  // -1 (all bits) where the ray enters the box, else 0
-    unsigned mask = 0;
-    for (int i = 0; i < kBvhWidth; ++i) mask |= static_cast<unsigned>(enters[i] & 1) << i;
-    return {t_near, mask};
+    return {t_near, lane_bits(t_near <= t_far)};
 }
 
 // The same test for one box (the hard-case tests use it): the box in one slot of a node.

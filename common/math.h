@@ -10,12 +10,39 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <limits>
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 namespace lessons {
 
 // Four floats in one SSE register (GCC/Clang vector extension): arithmetic and comparisons act on
-// all four lanes at once, for the BVH's four boxes and a leaf's four triangles.
+// all four lanes at once, for a leaf's four triangles or quads.
 using Float4 = float __attribute__((vector_size(16)));
+// Eight floats in one AVX register, for the BVH's eight boxes.
+using Float8 = float __attribute__((vector_size(32)));
+
+// A vector comparison gives -1 (all bits set) in each lane where it holds, else 0. lane_bits
+// gathers them as bit i for lane i, for a loop over the lanes that hold: on x86 one instruction
+// (movmskps) reads the lanes' sign bits; elsewhere a loop.
+inline unsigned lane_bits(decltype(Float4{} < Float4{}) m) {
+#if defined(__SSE__)
+    return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+    unsigned bits = 0;
+    for (int i = 0; i < 4; ++i) bits |= static_cast<unsigned>(m[i] & 1) << i;
+    return bits;
+#endif
+}
+inline unsigned lane_bits(decltype(Float8{} < Float8{}) m) {
+#if defined(__AVX__)
+    return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+#else
+    unsigned bits = 0;
+    for (int i = 0; i < 8; ++i) bits |= static_cast<unsigned>(m[i] & 1) << i;
+    return bits;
+#endif
+}
 
 using Vec2 = glm::vec2;
 using Vec3 = glm::vec3;

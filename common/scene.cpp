@@ -209,16 +209,21 @@ void Scene::commit() {
     return false;
 }
 
+Scene::LeafTests Scene::leaf_tests() const {
+    const bool triangle_blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
+    return {triangle_blocks, !quad_blocks_.empty(),
+            !spheres_.empty() || (!triangles_.empty() && !triangle_blocks)};
+}
+
 template <class OnHit>
-bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const WatertightRay& wr,
-                           float& t_max, OnHit&& on_hit) const {
+bool Scene::intersect_leaf(const LeafTests& tests, uint32_t first, uint32_t end, const Ray& ray,
+                           const WatertightRay& wr, float& t_max, OnHit&& on_hit) const {
     bool hit_any = false;
     ShapeHit h;
     // Leaves start at multiples of four and hold at most four: one block of each kind.
     static_assert(Bvh::kLeafAlignment == 4 && Bvh::kMaxLeafSize <= 4);
     const unsigned lanes = (1u << (end - first)) - 1u;
-    const bool triangle_blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
-    if (triangle_blocks) {
+    if (tests.triangle_blocks) {
         // The leaf's triangles, four at once; a lane with an edge function of exactly zero is
         // decided by the scalar test, which re-evaluates it in double.
         const TriangleBlock& block = triangle_blocks_[first / 4];
@@ -242,7 +247,7 @@ bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const W
             if (on_hit(first + lane, h)) return true;
         }
     }
-    if (!quad_blocks_.empty()) {
+    if (tests.quad_blocks) {
         // The leaf's quads, four at once, with exactly intersect_quad's arithmetic.
         QuadTerms<Float4> q;
         for (unsigned m = quad_blocks_[first / 4].intersect(ray, t_max, q) & lanes; m != 0;
@@ -255,10 +260,11 @@ bool Scene::intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const W
         }
     }
     // One by one: spheres, and triangles under --naive moller-trumbore.
-    if (spheres_.empty() && (triangles_.empty() || triangle_blocks)) return hit_any;
+    if (!tests.one_by_one) return hit_any;
     for (uint32_t k = first; k < end; ++k) {
         const ShapeKind kind = prims_[k].kind();
-        if (kind == ShapeKind::Quad || (triangle_blocks && kind == ShapeKind::Triangle)) continue;
+        if (kind == ShapeKind::Quad || (tests.triangle_blocks && kind == ShapeKind::Triangle))
+            continue;
         if (!intersect_primitive(k, ray, wr, t_max, h)) continue;
         hit_any = true;
         if (on_hit(k, h)) return true;
@@ -270,13 +276,15 @@ std::optional<Hit> Scene::intersect(const Ray& ray) const {
     ++t_rays_traced;
     // The shear frame costs three divisions: only scenes with triangles pay for it.
     const WatertightRay wr = triangles_.empty() ? WatertightRay() : WatertightRay(ray);
+    const LeafTests tests = leaf_tests();
     Hit best;
     const bool found = bvh_.closest_hit(ray, [&](uint32_t first, uint32_t end, float& t_max) {
-        return intersect_leaf(first, end, ray, wr, t_max, [&](uint32_t k, const ShapeHit& h) {
-            t_max = h.t;  // nearer hits only from now on
-            best = {h, prims_[k]};
-            return false;
-        });
+        return intersect_leaf(tests, first, end, ray, wr, t_max,
+                              [&](uint32_t k, const ShapeHit& h) {
+                                  t_max = h.t;  // nearer hits only from now on
+                                  best = {h, prims_[k]};
+                                  return false;
+                              });
     });
     if (!found) return std::nullopt;
     return best;
@@ -286,10 +294,11 @@ bool Scene::occluded(const Ray& ray, std::optional<PrimRef> target) const {
     ++t_rays_traced;
     // The shear frame costs three divisions: only scenes with triangles pay for it.
     const WatertightRay wr = triangles_.empty() ? WatertightRay() : WatertightRay(ray);
+    const LeafTests tests = leaf_tests();
     return bvh_.any_hit(ray, [&](uint32_t first, uint32_t end) {
         bool blocked = false;
         float t_max = ray.t_max;
-        intersect_leaf(first, end, ray, wr, t_max, [&](uint32_t k, const ShapeHit&) {
+        intersect_leaf(tests, first, end, ray, wr, t_max, [&](uint32_t k, const ShapeHit&) {
             blocked = !(target && prims_[k] == *target);
             return blocked;  // stop at the first blocker
         });

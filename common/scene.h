@@ -154,12 +154,20 @@ private:
     bool intersect_primitive(uint32_t k, const Ray& ray, const WatertightRay& wr, float t_max,
                              ShapeHit& hit) const;
 
+    // Which tests a leaf needs: decided once per ray, not once per leaf.
+    struct LeafTests {
+        bool triangle_blocks;  // triangles four at once (not under --naive moller-trumbore)
+        bool quad_blocks;      // quads four at once
+        bool one_by_one;       // spheres, or triangles under --naive moller-trumbore
+    };
+    LeafTests leaf_tests() const;
+
     // Tests the primitives of one BVH leaf, positions [first, end), within (0, t_max); calls
     // on_hit(k, hit) for each hit found, and stops when it returns true. A closest-hit query's
     // on_hit lowers t_max to the hit's distance.
     template <class OnHit>
-    bool intersect_leaf(uint32_t first, uint32_t end, const Ray& ray, const WatertightRay& wr,
-                        float& t_max, OnHit&& on_hit) const;
+    bool intersect_leaf(const LeafTests& tests, uint32_t first, uint32_t end, const Ray& ray,
+                        const WatertightRay& wr, float& t_max, OnHit&& on_hit) const;
 
     std::vector<Material> materials_;
     std::vector<Sphere> spheres_;

@@ -116,20 +116,6 @@ SurfaceGeometry quad_surface(const Quad& q, const ShapeHit& hit) {
     return g;
 }
 
-WatertightRay::WatertightRay(const Ray& ray) {
-    const Vec3 ad = glm::abs(ray.dir);
-    kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
-    kx = (kz + 1) % 3;
-    ky = (kx + 1) % 3;
-    if (ray.dir[kz] < 0.0f) std::swap(kx, ky);  // keep the winding of the 2D edge functions
-    sx = ray.dir[kx] / ray.dir[kz];
-    sy = ray.dir[ky] / ray.dir[kz];
-    sz = 1.0f / ray.dir[kz];
-    ox = ray.origin[kx];
-    oy = ray.origin[ky];
-    oz = ray.origin[kz];
-}
-
 bool intersect_triangle_moller_trumbore(const Ray& ray, const Vec3& p0, const Vec3& p1,
                                         const Vec3& p2, ShapeHit& hit) {
     const Vec3 e1 = p1 - p0, e2 = p2 - p0;

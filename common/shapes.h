@@ -137,7 +137,7 @@ struct QuadBlock {
         const auto hit = (terms.denom != 0.0f) & (terms.t > 0.0f) & (terms.t < t_max) &
                          (terms.a >= 0.0f) & (terms.a <= 1.0f) & (terms.b >= 0.0f) &
                          (terms.b <= 1.0f);
-        return (hit[0] & 1u) | (hit[1] & 2u) | (hit[2] & 4u) | (hit[3] & 8u);
+        return lane_bits(hit);
     }
 };
 static_assert(sizeof(QuadBlock) == 192);
@@ -155,7 +155,22 @@ struct WatertightRay {
     int kx, ky, kz;             // permutation that makes the largest direction component z
     float sx, sy, sz;           // shear coefficients
     WatertightRay() = default;  // unset: for scenes without triangles
-    explicit WatertightRay(const Ray& ray);
+    explicit WatertightRay(const Ray& ray) {
+        // Plain arrays: indexing a glm vector by a runtime axis compiles to a switch.
+        const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+        const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+        const float ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
+        kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+        kx = (kz + 1) % 3;
+        ky = (kx + 1) % 3;
+        if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding of the 2D edge functions
+        sx = d[kx] / d[kz];
+        sy = d[ky] / d[kz];
+        sz = 1.0f / d[kz];
+        ox = o[kx];
+        oy = o[ky];
+        oz = o[kz];
+    }
 };
 
 // The watertight test's arithmetic, written once for one triangle (T = float) and for four side
@@ -288,21 +303,15 @@ struct TriangleBlock {
         const Float4 t_det = t_max * det;
         const auto in_range = ((det < 0.0f) & (t_scaled < 0.0f) & (t_scaled > t_det)) |
                               ((det > 0.0f) & (t_scaled > 0.0f) & (t_scaled < t_det));
-        recheck = to_mask(exact_zero);
-        const unsigned candidates = to_mask(~exact_zero & ~outside & in_range);
+        recheck = lane_bits(exact_zero);
+        const unsigned candidates = lane_bits(~exact_zero & ~outside & in_range);
         if (candidates == 0) return 0;  // the common case: finish only the lanes still in play
         const Float4 inv_det = 1.0f / det;
         hits.t = t_scaled * inv_det;
         hits.u = w.e1 * inv_det;
         hits.v = w.e2 * inv_det;
         hits.det = det;
-        return candidates & to_mask(hits.t > watertight_t_error(w, inv_det));
-    }
-
-private:
-    using Mask4 = decltype(Float4{} < Float4{});
-    static unsigned to_mask(Mask4 m) {
-        return (m[0] & 1u) | (m[1] & 2u) | (m[2] & 4u) | (m[3] & 8u);
+        return candidates & lane_bits(hits.t > watertight_t_error(w, inv_det));
     }
 };
 static_assert(sizeof(TriangleBlock) == 144);
