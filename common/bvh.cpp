@@ -58,7 +58,7 @@ int bin_of(float centroid, float lo, float scale) {
 struct Collapse {
     const std::vector<BinaryNode>& binary;
     const std::vector<uint32_t>& build_order;
-    std::vector<BvhNode>& nodes;
+    LargePageVector<BvhNode>& nodes;
     std::vector<uint32_t>& order;
 
     uint32_t leaf(uint32_t first, uint32_t count) {
@@ -252,7 +252,8 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
 }
 
 size_t Bvh::memory_bytes() const {
-    return nodes_.capacity() * sizeof(BvhNode) + prim_index_.capacity() * sizeof(uint32_t);
+    return large_page_allocation(nodes_.capacity() * sizeof(BvhNode)) +
+           prim_index_.capacity() * sizeof(uint32_t);
 }
 
 }  // namespace lessons

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "bounds.h"
+#include "large_pages.h"
 #include "math.h"
 
 namespace lessons {
@@ -130,7 +131,7 @@ public:
     // Builds over primitives 0 .. boxes.size()-1 with the given bounding boxes.
     explicit Bvh(std::span<const Bounds3> boxes);
 
-    const std::vector<BvhNode>& nodes() const { return nodes_; }
+    const LargePageVector<BvhNode>& nodes() const { return nodes_; }
     // Position k of the primitive order holds primitive primitive_order()[k] (or kPadding, in
     // the gaps before aligned leaves); the callbacks below receive positions.
     const std::vector<uint32_t>& primitive_order() const { return prim_index_; }
@@ -149,7 +150,7 @@ public:
     bool any_hit(const Ray& ray, OccludedFn&& occluded) const;
 
 private:
-    std::vector<BvhNode> nodes_;  // nodes_[0] is the root
+    LargePageVector<BvhNode> nodes_;  // nodes_[0] is the root (large_pages.h)
     std::vector<uint32_t> prim_index_;
     Bounds3 bounds_;
 };

@@ -178,10 +178,10 @@ private:
     std::vector<Vec3> normals_;  // empty, or one per position
     std::vector<Vec2> uvs_;      // empty, or one per position
     std::vector<Triangle> triangles_;
-    std::vector<PrimRef> prims_;                  // in the BVH's primitive order
-    std::vector<TriangleBlock> triangle_blocks_;  // vertices of positions 4b..4b+3; empty without
-                                                  // triangles; other lanes NaN
-    std::vector<QuadBlock> quad_blocks_;          // the same for quads
+    std::vector<PrimRef> prims_;                      // in the BVH's primitive order
+    LargePageVector<TriangleBlock> triangle_blocks_;  // vertices of positions 4b..4b+3; empty
+                                                      // without triangles; other lanes NaN
+    LargePageVector<QuadBlock> quad_blocks_;  // the same for quads
 
     std::vector<PointLight> point_lights_;
     std::vector<AreaLight> area_lights_;

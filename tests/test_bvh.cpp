@@ -165,3 +165,23 @@ TEST(Bvh, AxisAlignedRaysInsideSlabPlanesAreNotCulled) {
     EXPECT_TRUE(scene.intersect(Ray{Vec3(0.2f, 1.0f, 0.2f), Vec3(0, -1, 0)}));
     EXPECT_TRUE(scene.intersect(Ray{Vec3(0.2f, -1.0f, 0.2f), Vec3(0, 1, 0)}));
 }
+
+// The BVH's node array and the leaf blocks live in LargePageVector: from 2 MiB up, on a 2 MiB
+// boundary (where the system can back them with 2 MiB pages), and below, aligned as the type
+// asks. Growing across the threshold keeps the contents.
+TEST(LargePages, ArraysFrom2MiBStartOn2MiBBoundariesAndKeepTheirContents) {
+    LargePageVector<BvhNode> nodes;
+    const size_t per_page = kLargePageBytes / sizeof(BvhNode);
+    for (size_t i = 0; i < 3 * per_page + 5; ++i) {
+        BvhNode n{};
+        n.child[0] = static_cast<uint32_t>(i);
+        nodes.push_back(n);
+        const auto address = reinterpret_cast<uintptr_t>(nodes.data());
+        ASSERT_EQ(address % alignof(BvhNode), 0u) << "at size " << nodes.size();
+        if (nodes.capacity() * sizeof(BvhNode) >= kLargePageBytes)
+            ASSERT_EQ(address % kLargePageBytes, 0u) << "at size " << nodes.size();
+    }
+    for (size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(nodes[i].child[0], i);
+    EXPECT_EQ(large_page_allocation(kLargePageBytes + 1), 2 * kLargePageBytes);
+    EXPECT_EQ(large_page_allocation(kLargePageBytes - 1), kLargePageBytes - 1);
+}
