@@ -252,8 +252,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
 }
 
 size_t Bvh::memory_bytes() const {
-    return large_page_allocation(nodes_.capacity() * sizeof(BvhNode)) +
-           prim_index_.capacity() * sizeof(uint32_t);
+    return nodes_.capacity() * sizeof(BvhNode) + prim_index_.capacity() * sizeof(uint32_t);
 }
 
 }  // namespace lessons

@@ -5,10 +5,13 @@
 // megabytes. With the usual 4 KiB pages each visit may also miss in the TLB, the cache of
 // address translations, and wait for a page-table walk. Linux backs memory with 2 MiB pages
 // where a program asks for them (madvise(MADV_HUGEPAGE), "transparent huge pages"); Embree
-// does, and so do we. An array of at least 2 MiB is allocated on a 2 MiB boundary, its size
-// rounded up to whole 2 MiB pages, and marked; smaller arrays are allocated as usual. Where the
-// system declines (or is not Linux), the memory is ordinary memory: nothing else changes.
+// does, and so do we. An array of at least 2 MiB starts on a 2 MiB boundary and its whole 2 MiB
+// stretches are marked: they can then be 2 MiB pages, while its tail, shorter than one, stays in
+// 4 KiB pages, so no memory is wasted. Smaller arrays are allocated as usual. Where the system
+// declines (or is not Linux), the memory is ordinary memory: nothing else changes.
 #pragma once
+
+#include <stdlib.h>  // posix_memalign
 
 #include <cstddef>
 #include <cstdlib>
@@ -23,13 +26,6 @@ namespace lessons {
 
 inline constexpr size_t kLargePageBytes = size_t{2} << 20;
 
-// The bytes an array of `bytes` occupies once allocated by LargePageAllocator.
-inline constexpr size_t large_page_allocation(size_t bytes) {
-    return bytes >= kLargePageBytes
-               ? (bytes + kLargePageBytes - 1) / kLargePageBytes * kLargePageBytes
-               : bytes;
-}
-
 template <class T>
 class LargePageAllocator {
 public:
@@ -43,11 +39,12 @@ public:
         const size_t bytes = n * sizeof(T);
         if (bytes < kLargePageBytes)
             return static_cast<T*>(::operator new(bytes, std::align_val_t(kAlignment)));
-        const size_t size = large_page_allocation(bytes);
-        void* p = std::aligned_alloc(kLargePageBytes, size);
-        if (p == nullptr) throw std::bad_alloc();
+        void* p = nullptr;
+        if (posix_memalign(&p, kLargePageBytes, bytes) != 0) throw std::bad_alloc();
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-        madvise(p, size, MADV_HUGEPAGE);  // a request: if declined, the pages stay 4 KiB
+        // Whole 2 MiB stretches only, so the tail is never rounded up to a page of 2 MiB. A
+        // request: if the system declines, the pages stay 4 KiB.
+        madvise(p, bytes / kLargePageBytes * kLargePageBytes, MADV_HUGEPAGE);
 #endif
         return static_cast<T*>(p);
     }

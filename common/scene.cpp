@@ -362,7 +362,7 @@ SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
 }
 
 size_t Scene::geometry_bytes() const {
-    auto bytes = [](const auto& v) { return large_page_allocation(v.capacity() * sizeof(v[0])); };
+    auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
     return bytes(spheres_) + bytes(sphere_materials_) + bytes(quads_) + bytes(quad_materials_) +
            bytes(positions_) + bytes(normals_) + bytes(uvs_) + bytes(triangles_) + bytes(prims_) +
            bytes(triangle_blocks_) + bytes(quad_blocks_) + bvh_.memory_bytes();

@@ -178,10 +178,9 @@ TEST(LargePages, ArraysFrom2MiBStartOn2MiBBoundariesAndKeepTheirContents) {
         nodes.push_back(n);
         const auto address = reinterpret_cast<uintptr_t>(nodes.data());
         ASSERT_EQ(address % alignof(BvhNode), 0u) << "at size " << nodes.size();
-        if (nodes.capacity() * sizeof(BvhNode) >= kLargePageBytes)
+        if (nodes.capacity() * sizeof(BvhNode) >= kLargePageBytes) {
             ASSERT_EQ(address % kLargePageBytes, 0u) << "at size " << nodes.size();
+        }
     }
     for (size_t i = 0; i < nodes.size(); ++i) ASSERT_EQ(nodes[i].child[0], i);
-    EXPECT_EQ(large_page_allocation(kLargePageBytes + 1), 2 * kLargePageBytes);
-    EXPECT_EQ(large_page_allocation(kLargePageBytes - 1), kLargePageBytes - 1);
 }
