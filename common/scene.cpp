@@ -209,15 +209,16 @@ void Scene::commit() {
     return false;
 }
 
-Scene::LeafTests Scene::leaf_tests() const {
+Scene::RayTests Scene::ray_tests(const Ray& ray) const {
     const bool triangle_blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
-    return {triangle_blocks, !quad_blocks_.empty(),
-            !spheres_.empty() || (!triangles_.empty() && !triangle_blocks)};
+    return {triangles_.empty() ? WatertightRay() : WatertightRay(ray), triangle_blocks,
+            !quad_blocks_.empty(), !spheres_.empty() || (!triangles_.empty() && !triangle_blocks)};
 }
 
 template <class OnHit>
-bool Scene::intersect_leaf(const LeafTests& tests, uint32_t first, uint32_t end, const Ray& ray,
-                           const WatertightRay& wr, float& t_max, OnHit&& on_hit) const {
+bool Scene::intersect_leaf(const RayTests& tests, uint32_t first, uint32_t end, const Ray& ray,
+                           float& t_max, OnHit&& on_hit) const {
+    const WatertightRay& wr = tests.wr;
     bool hit_any = false;
     ShapeHit h;
     // Leaves start at multiples of four and hold at most four: one block of each kind.
@@ -274,17 +275,14 @@ bool Scene::intersect_leaf(const LeafTests& tests, uint32_t first, uint32_t end,
 
 std::optional<Hit> Scene::intersect(const Ray& ray) const {
     ++t_rays_traced;
-    // The shear frame costs three divisions: only scenes with triangles pay for it.
-    const WatertightRay wr = triangles_.empty() ? WatertightRay() : WatertightRay(ray);
-    const LeafTests tests = leaf_tests();
+    const RayTests tests = ray_tests(ray);
     Hit best;
     const bool found = bvh_.closest_hit(ray, [&](uint32_t first, uint32_t end, float& t_max) {
-        return intersect_leaf(tests, first, end, ray, wr, t_max,
-                              [&](uint32_t k, const ShapeHit& h) {
-                                  t_max = h.t;  // nearer hits only from now on
-                                  best = {h, prims_[k]};
-                                  return false;
-                              });
+        return intersect_leaf(tests, first, end, ray, t_max, [&](uint32_t k, const ShapeHit& h) {
+            t_max = h.t;  // nearer hits only from now on
+            best = {h, prims_[k]};
+            return false;
+        });
     });
     if (!found) return std::nullopt;
     return best;
@@ -292,13 +290,11 @@ std::optional<Hit> Scene::intersect(const Ray& ray) const {
 
 bool Scene::occluded(const Ray& ray, std::optional<PrimRef> target) const {
     ++t_rays_traced;
-    // The shear frame costs three divisions: only scenes with triangles pay for it.
-    const WatertightRay wr = triangles_.empty() ? WatertightRay() : WatertightRay(ray);
-    const LeafTests tests = leaf_tests();
+    const RayTests tests = ray_tests(ray);
     return bvh_.any_hit(ray, [&](uint32_t first, uint32_t end) {
         bool blocked = false;
         float t_max = ray.t_max;
-        intersect_leaf(tests, first, end, ray, wr, t_max, [&](uint32_t k, const ShapeHit&) {
+        intersect_leaf(tests, first, end, ray, t_max, [&](uint32_t k, const ShapeHit&) {
             blocked = !(target && prims_[k] == *target);
             return blocked;  // stop at the first blocker
         });

@@ -154,20 +154,23 @@ private:
     bool intersect_primitive(uint32_t k, const Ray& ray, const WatertightRay& wr, float t_max,
                              ShapeHit& hit) const;
 
-    // Which tests a leaf needs: decided once per ray, not once per leaf.
-    struct LeafTests {
+    // What every leaf of one ray's query needs, prepared once per ray: the ray's shear frame for
+    // the watertight triangle test (three divisions: only scenes with triangles pay for it), and
+    // which kinds of tests the leaves need.
+    struct RayTests {
+        WatertightRay wr;
         bool triangle_blocks;  // triangles four at once (not under --naive moller-trumbore)
         bool quad_blocks;      // quads four at once
         bool one_by_one;       // spheres, or triangles under --naive moller-trumbore
     };
-    LeafTests leaf_tests() const;
+    RayTests ray_tests(const Ray& ray) const;
 
     // Tests the primitives of one BVH leaf, positions [first, end), within (0, t_max); calls
     // on_hit(k, hit) for each hit found, and stops when it returns true. A closest-hit query's
     // on_hit lowers t_max to the hit's distance.
     template <class OnHit>
-    bool intersect_leaf(const LeafTests& tests, uint32_t first, uint32_t end, const Ray& ray,
-                        const WatertightRay& wr, float& t_max, OnHit&& on_hit) const;
+    bool intersect_leaf(const RayTests& tests, uint32_t first, uint32_t end, const Ray& ray,
+                        float& t_max, OnHit&& on_hit) const;
 
     std::vector<Material> materials_;
     std::vector<Sphere> spheres_;
@@ -181,7 +184,7 @@ private:
     std::vector<PrimRef> prims_;                      // in the BVH's primitive order
     LargePageVector<TriangleBlock> triangle_blocks_;  // vertices of positions 4b..4b+3; empty
                                                       // without triangles; other lanes NaN
-    LargePageVector<QuadBlock> quad_blocks_;  // the same for quads
+    LargePageVector<QuadBlock> quad_blocks_;          // the same for quads
 
     std::vector<PointLight> point_lights_;
     std::vector<AreaLight> area_lights_;
