@@ -175,19 +175,17 @@ TEST(Bounds, SurfaceAreaAndUnion) {
 // lane_bits turns a vector comparison into bit i for lane i, for every pattern of four and of
 // eight lanes, as the plain loop over the lanes does (the BVH and the leaf blocks loop over these
 // bits: a wrong order would test the wrong child or triangle).
+template <class FloatN, class MaskN, int kLanes>
+void expect_lane_bits_for_every_pattern() {
+    for (unsigned pattern = 0; pattern < (1u << kLanes); ++pattern) {
+        FloatN v{};
+        for (int i = 0; i < kLanes; ++i) v[i] = (pattern >> i) & 1u ? 1.0f : -1.0f;
+        const MaskN m = v > 0.0f;
+        EXPECT_EQ(lane_bits(m), pattern);
+        EXPECT_EQ((lane_bits_by_loop<MaskN, kLanes>(m)), pattern);
+    }
+}
 TEST(LaneBits, GiveBitIForLaneIForEveryPattern) {
-    for (unsigned pattern = 0; pattern < 16; ++pattern) {
-        Float4 v{};
-        for (int i = 0; i < 4; ++i) v[i] = (pattern >> i) & 1u ? 1.0f : -1.0f;
-        const Mask4 m = v > 0.0f;
-        EXPECT_EQ(lane_bits(m), pattern);
-        EXPECT_EQ((lane_bits_by_loop<Mask4, 4>(m)), pattern);
-    }
-    for (unsigned pattern = 0; pattern < 256; ++pattern) {
-        Float8 v{};
-        for (int i = 0; i < 8; ++i) v[i] = (pattern >> i) & 1u ? 1.0f : -1.0f;
-        const Mask8 m = v > 0.0f;
-        EXPECT_EQ(lane_bits(m), pattern);
-        EXPECT_EQ((lane_bits_by_loop<Mask8, 8>(m)), pattern);
-    }
+    expect_lane_bits_for_every_pattern<Float4, Mask4, 4>();
+    expect_lane_bits_for_every_pattern<Float8, Mask8, 8>();
 }
