@@ -488,14 +488,24 @@ int run(int argc, char** argv) {
             load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {256, 256});
         const LightSampler lights(scene);
         const Model model = make_path_tracing_model(scene, lights, {});
+        // Best of kPasses renders per thread count, the counts taken in turn (1, all, all, 1,
+        // ...), so that the scaling is not the machine's drift between two renders.
+        const int spp = quick ? 8 : 32;
+        std::vector<RenderStats> best(thread_counts.size());
+        for (int pass = 0; pass < kPasses; ++pass)
+            for (size_t k = 0; k < thread_counts.size(); ++k) {
+                const size_t c = pass % 2 == 0 ? k : thread_counts.size() - 1 - k;
+                RenderSettings settings;
+                settings.progress = false;
+                settings.threads = thread_counts[c];
+                const RenderStats stats = render_scene(scene, model, spp, settings).stats;
+                if (pass == 0 || stats.seconds < best[c].seconds) best[c] = stats;
+            }
         double single = 0.0;
-        for (int threads : thread_counts) {
-            RenderSettings settings;
-            settings.progress = false;
-            settings.threads = threads;
-            const int spp = quick ? 8 : 32;
-            const RenderResult result = render_scene(scene, model, spp, settings);
-            const double samples = 256.0 * 256.0 * spp / result.stats.seconds * 1e-6;
+        for (size_t c = 0; c < thread_counts.size(); ++c) {
+            const int threads = thread_counts[c];
+            const RenderStats& stats = best[c];
+            const double samples = 256.0 * 256.0 * spp / stats.seconds * 1e-6;
             if (threads == 1) single = samples;
             Row r{"cornell_box",
                   0,
@@ -504,9 +514,9 @@ int run(int argc, char** argv) {
                   threads,
                   samples,
                   std::nullopt,
-                  fixed(result.stats.rays / result.stats.seconds * 1e-6, 2) + " Mrays/s, " +
-                      fixed(result.stats.seconds, 2) + " s for " + std::to_string(spp) +
-                      " spp at 256x256"};
+                  fixed(stats.rays / stats.seconds * 1e-6, 2) + " Mrays/s, " +
+                      fixed(stats.seconds, 2) + " s for " + std::to_string(spp) +
+                      " spp at 256x256 (best of " + std::to_string(kPasses) + ")"};
             if (threads > 1) r.note += ", scaling " + fixed(samples / single, 2) + "x";
             add(r);
         }
