@@ -194,6 +194,8 @@ public:
     }
 
 private:
+    // A plain product: std::complex's operator* also handles infinities and NaNs (C99 Annex G),
+    // through a library call when a result is NaN, which this bounded arithmetic never needs.
     struct Complex {
         float re, im;
         Complex operator*(const Complex& o) const {
