@@ -127,8 +127,9 @@ std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const 
         const float r2 = s.radius * s.radius;
         if (d2 <= r2 * 1.0001f) {
             // From inside (or on) the sphere, sample its whole area: p_A = 1 / (4 pi r^2).
-            n_q = sample_uniform_sphere(u);
-            q = s.center + s.radius * n_q;
+            const SurfacePoint on = point_by_area(area_light, u);
+            q = on.p;
+            n_q = on.n;
             const Vec3 d = q - at.p;
             pdf_solid_angle = area_to_solid_angle_pdf(1.0f / s.area(), glm::dot(d, d),
                                                       glm::dot(n_q, glm::normalize(-d)));
@@ -156,9 +157,8 @@ std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const 
             pdf_solid_angle = uniform_cone_pdf(one_minus_cos_max);
         }
         q_error = gamma_bound(5) * (glm::abs(s.center) + Vec3(s.radius));
-    } else if (prim.kind() == ShapeKind::Quad) {
-        const Quad& quad = scene_.quads()[prim.index()];
-        Vec2 ab = u;  // edge coordinates of the point, uniform by area
+    } else {
+        Vec2 ab = u;  // a quad's edge coordinates of the point, uniform by area
         if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
             const SphericalRectangle rect(at.p, *rectangle);
             if (rect.well_conditioned()) {
@@ -167,19 +167,10 @@ std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const 
                 by_area = false;
             }
         }
-        q = quad.corner + ab.x * quad.edge_u + ab.y * quad.edge_v;
-        n_q = quad.normal;
-        q_error = gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(ab.x * quad.edge_u) +
-                                    glm::abs(ab.y * quad.edge_v));
-    } else {
-        const Triangle& t = scene_.triangles()[prim.index()];
-        const Vec3 &p0 = scene_.positions()[t.v[0]], &p1 = scene_.positions()[t.v[1]],
-                   &p2 = scene_.positions()[t.v[2]];
-        const Vec2 b = sample_uniform_triangle(u);
-        const float b0 = 1.0f - b.x - b.y;
-        q = b0 * p0 + b.x * p1 + b.y * p2;
-        n_q = light.normal;
-        q_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b.x * p1) + glm::abs(b.y * p2));
+        const SurfacePoint on = point_by_area(area_light, ab);
+        q = on.p;
+        n_q = on.n;
+        q_error = on.error;
     }
 
     Vec3 d = q - at.p;
@@ -198,7 +189,85 @@ std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const 
                        pdf_solid_angle,
                        false,
                        spawn_ray_between(at, {q, q_error, n_q}),
-                       prim};
+                       prim,
+                       q,
+                       n_q};
+}
+
+SurfacePoint LightSampler::point_by_area(uint32_t area_light, const Vec2& u) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
+    const PrimRef prim = light.prim;
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: {
+            const Sphere& s = scene_.spheres()[prim.index()];
+            const Vec3 n = sample_uniform_sphere(u);
+            return {s.center + s.radius * n, gamma_bound(5) * (glm::abs(s.center) + Vec3(s.radius)),
+                    n};
+        }
+        case ShapeKind::Quad: {
+            const Quad& quad = scene_.quads()[prim.index()];
+            return {quad.corner + u.x * quad.edge_u + u.y * quad.edge_v,
+                    gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(u.x * quad.edge_u) +
+                                      glm::abs(u.y * quad.edge_v)),
+                    quad.normal};
+        }
+        case ShapeKind::Triangle: {
+            const Triangle& t = scene_.triangles()[prim.index()];
+            const Vec3 &p0 = scene_.positions()[t.v[0]], &p1 = scene_.positions()[t.v[1]],
+                       &p2 = scene_.positions()[t.v[2]];
+            const Vec2 b = sample_uniform_triangle(u);
+            const float b0 = 1.0f - b.x - b.y;
+            return {b0 * p0 + b.x * p1 + b.y * p2,
+                    gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b.x * p1) + glm::abs(b.y * p2)),
+                    light.normal};
+        }
+    }
+    return {};
+}
+
+std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, const Vec2& u_point,
+                                                            const Vec2& u_dir) const {
+    if (lights_.empty()) return std::nullopt;
+    const size_t light = std::min<size_t>(
+        std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(), lights_.size() - 1);
+    const float choose = choice_probability(light);
+    if (lights_[light].kind != Kind::Area || !(choose > 0.0f)) return std::nullopt;
+    const AreaLight& area_light = scene_.area_lights()[lights_[light].index];
+    SurfacePoint on = point_by_area(lights_[light].index, u_point);
+    // A two-sided light leaves by either side, half the time each: u_dir.x picks the side, then
+    // is stretched back to [0, 1).
+    Vec2 u = u_dir;
+    float side = 1.0f;
+    if (area_light.two_sided) {
+        side = 0.5f;
+        if (u.x < 0.5f) {
+            on.n = -on.n;
+            u.x = 2.0f * u.x;
+        } else {
+            u.x = std::min(2.0f * u.x - 1.0f, 0x1.fffffep-1f);
+        }
+    }
+    const Vec3 local = sample_cosine_hemisphere(u);
+    if (!(local.z > 0.0f)) return std::nullopt;  // the disk's rim: measure zero
+    const Vec3 w = glm::normalize(Frame(on.n).to_world(local));
+    return EmissionSample{spawn_ray(on, w),
+                          on.p,
+                          on.n,
+                          area_light.radiance,
+                          choose / area_light.area,
+                          side * cosine_hemisphere_pdf(local.z),
+                          area_light.prim};
+}
+
+LightSampler::EmissionPdf LightSampler::emission_pdf(PrimRef light, const Vec3& n_q,
+                                                     const Vec3& w) const {
+    const auto it = light_of_primitive_.find(light.bits);
+    if (it == light_of_primitive_.end()) return {};
+    const AreaLight& area_light = scene_.area_lights()[lights_[it->second].index];
+    const float cos_q = glm::dot(n_q, w);
+    const float dir = area_light.two_sided ? 0.5f * cosine_hemisphere_pdf(std::fabs(cos_q))
+                                           : cosine_hemisphere_pdf(std::max(cos_q, 0.0f));
+    return {choice_probability(it->second) / area_light.area, dir};
 }
 
 float LightSampler::area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q,

@@ -45,6 +45,21 @@ struct LightSample {
     bool is_delta;   // a point light: no BSDF sample can ever hit it
     Ray shadow_ray;  // the segment that must be unoccluded (robustly offset at both ends)
     std::optional<PrimRef> emitter;  // the primitive the segment ends on, which cannot block it
+    Vec3 point{0.0f}, normal{0.0f};  // on an area light: the sampled point and its unit normal
+};
+
+// Light leaving an emitter, for light paths (lesson 4's light-path connections): a light chosen
+// by power as sample() chooses, a point uniform by area on it, and a direction distributed as
+// cos(theta) about the emitting side's normal (either side of a two-sided light, with
+// probability 1/2 each). Point lights and the environment give none.
+struct EmissionSample {
+    Ray ray;         // leaving the light's surface
+    Vec3 point;      // where it leaves
+    Vec3 normal;     // unit geometric normal there, on the side the ray leaves
+    Color radiance;  // L_e along the ray
+    float pdf_area;  // density of the point: choice probability / area, per m^2
+    float pdf_dir;   // density of the direction, per sr
+    PrimRef emitter;
 };
 
 class LightSampler {
@@ -66,6 +81,16 @@ public:
     // The same for a direction that escapes to the uniform environment.
     float environment_pdf() const;
 
+    // A ray of light leaving an emitter, from five uniform numbers (see EmissionSample).
+    std::optional<EmissionSample> sample_emission(float u_choose, const Vec2& u_point,
+                                                  const Vec2& u_dir) const;
+    // The densities sample_emission() has of leaving the emitter `light` from its point q, where
+    // its unit geometric normal is n_q, in direction w (unit): per m^2 of the light and per sr.
+    struct EmissionPdf {
+        float area = 0.0f, dir = 0.0f;
+    };
+    EmissionPdf emission_pdf(PrimRef light, const Vec3& n_q, const Vec3& w) const;
+
 private:
     enum class Kind { Point, Area, Environment };
     struct Entry {
@@ -77,6 +102,8 @@ private:
     std::optional<LightSample> sample_area(uint32_t area_light, const SurfacePoint& at,
                                            const Vec2& u) const;
     float area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
+    // A point uniform by area on an area light: the light's surface point, with its unit normal.
+    SurfacePoint point_by_area(uint32_t area_light, const Vec2& u) const;
 
     const Scene& scene_;
     std::vector<Entry> lights_;

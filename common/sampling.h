@@ -221,5 +221,13 @@ inline float power_heuristic(float pdf_f, float pdf_g) {
     const float ratio = pdf_g / pdf_f;
     return 1.0f / (1.0f + ratio * ratio);
 }
+// The same among three strategies, pdf_f^2 / (pdf_f^2 + pdf_g^2 + pdf_h^2), in double: lesson 4
+// weighs densities of two path vertices at once (products of two per-area densities), whose
+// range is the square of one's.
+inline float power_heuristic(double pdf_f, double pdf_g, double pdf_h) {
+    if (!(pdf_f > 0.0)) return 0.0f;
+    const double g = pdf_g / pdf_f, h = pdf_h / pdf_f;
+    return static_cast<float>(1.0 / (1.0 + g * g + h * h));
+}
 
 }  // namespace lessons

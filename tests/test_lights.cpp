@@ -11,7 +11,7 @@ using namespace lessons;
 
 namespace {
 
-const double kSignificance = test::sidak(0.01, 60);
+const double kSignificance = test::sidak(0.01, 61);
 
 uint32_t add_emitter(Scene& scene, const Color& radiance, bool two_sided = false) {
     Material m;
@@ -185,6 +185,50 @@ TEST(Lights, LightsAreChosenInProportionToTheirPower) {
         EXPECT_FLOAT_EQ(s->pdf, s->radiance.x == 3.0f / 4.0f ? 0.75f : 0.25f);
     }
     EXPECT_NEAR(second, 0.75 * n, 5 * std::sqrt(n * 0.75 * 0.25));
+}
+
+TEST(Lights, EmissionSamplesCarryThePowerOfTheLightsAndMatchTheirDensities) {
+    // Light paths start with sample_emission(): L_e cos / (p_A p_dir) averages to the power the
+    // area lights emit, pi L A per emitting side, and emission_pdf() gives each sample's own
+    // densities back (MIS weights rely on it). The point light starts no light path.
+    Scene scene;
+    scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)),
+                   add_emitter(scene, Color(2.0f), true));  // area 4, both sides
+    scene.add_sphere({Vec3(3, 0, 0), 0.5f}, add_emitter(scene, Color(1.0f)));
+    scene.add_mesh({Vec3(0, -2, 0), Vec3(1, -2, 0), Vec3(0, -2, 1)}, {}, {},
+                   {{{0, 1, 2}, add_emitter(scene, Color(3.0f)), false}});  // area 1/2
+    scene.add_point_light({Vec3(0, 5, 0), Color(10.0f)});
+    scene.commit();
+    const LightSampler sampler(scene);
+    const double expected = kPi * (2.0 * 4.0 * 2.0 + 1.0 * kPi + 3.0 * 0.5);
+    Rng rng(21);
+    std::vector<double> power;
+    int back_of_quad = 0, quad = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const auto e = sampler.sample_emission(rng.uniform(), {rng.uniform(), rng.uniform()},
+                                               {rng.uniform(), rng.uniform()});
+        if (!e) {
+            power.push_back(0.0);
+            continue;
+        }
+        const float cos_q = glm::dot(e->normal, e->ray.dir);
+        ASSERT_GT(cos_q, 0.0f);  // leaves on the side it names
+        power.push_back(luminance(e->radiance) * cos_q / (e->pdf_area * e->pdf_dir));
+        const LightSampler::EmissionPdf pdf = sampler.emission_pdf(
+            e->emitter, e->emitter.kind() == ShapeKind::Quad ? Vec3(0, -1, 0) : e->normal,
+            e->ray.dir);
+        EXPECT_NEAR(pdf.area, e->pdf_area, 1e-5f * e->pdf_area);
+        EXPECT_NEAR(pdf.dir, e->pdf_dir, 1e-5f * e->pdf_dir);
+        if (e->emitter.kind() == ShapeKind::Quad) {
+            ++quad;
+            back_of_quad += e->normal.y > 0.0f;
+            EXPECT_NEAR(e->point.y, 1.0f, 1e-6f);
+        }
+    }
+    const test::MeanAndError m = test::mean_and_error(power);
+    EXPECT_NEAR(m.mean, expected, test::z_quantile(kSignificance) * m.standard_error)
+        << "standard error " << m.standard_error;
+    EXPECT_NEAR(back_of_quad, 0.5 * quad, 5 * std::sqrt(0.25 * quad));
 }
 
 TEST(Lights, SamplesAreFiniteAtTheEndsOfTheUnitSquare) {
