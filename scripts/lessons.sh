@@ -4,7 +4,8 @@
 #   1. render a converged global-illumination reference (cached in out/ while the scene, the
 #      renderer and the settings are unchanged);
 #   2. run the four lessons at equal time budgets, recording error against time;
-#   3. run lesson 3's five estimators, and lesson 4 with and without next-event estimation;
+#   3. run lesson 3's five estimators, and lesson 4 without next-event estimation and with light
+#      paths;
 #   4. plot MSE against seconds, log-log, every run on one chart (gnuplot: SVG and PNG);
 #   5. write out/index.html: a static page (no server needed) with the images side by side, a
 #      flip/slider comparison, the error images, the chart and a table of the figures.
@@ -49,6 +50,7 @@ RUNS=(
     "estimator_brdf|03_reflection_equation|--estimator brdf|3 BRDF"
     "estimator_light|03_reflection_equation|--estimator light|3 light"
     "lesson4_plain|04_rendering_equation|--plain|4 plain (no NEE)"
+    "lesson4_light_paths|04_rendering_equation|--light-paths|4 NEE+MIS and light paths"
 )
 SCENES=("cornell_spheres|The Cornell box with a mirror and a glass sphere|$SIZE|$SIZE"
         "whitted_1979|Whitted 1979: spheres and checkerboard|$((SIZE * 4 / 3))|$SIZE")

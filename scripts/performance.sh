@@ -57,15 +57,19 @@ CSV="$OUT/rtiow.csv"
 echo "renderer,spp,seconds,rmse_corrected,reference_noise_rmse" > "$CSV"
 for spp in $SPP_LIST; do
     # Ours: the render time as the lesson reports it (rendering only, 2 threads), with each
-    # sampler (--sampler: independent random numbers, or a stratified Kronecker sequence).
-    for sampler in independent kronecker; do
-        name="ours_${sampler}_${spp}spp"
+    # sampler (--sampler: independent random numbers, or a stratified Kronecker sequence), and
+    # with light paths (--light-paths) on the Kronecker sequence.
+    for variant in independent kronecker kronecker+light-paths; do
+        sampler="${variant%%+*}"
+        flags=()
+        [ "$variant" = "${variant%+light-paths}" ] || flags+=(--light-paths)
+        name="ours_${variant}_${spp}spp"
         "$BIN/04_rendering_equation" --scene "$SCENE" --spp "$spp" --seed $((1000 + spp)) \
-            --sampler "$sampler" --out "$OUT/$name" --report "$OUT/$name.json" --quiet
+            --sampler "$sampler" "${flags[@]}" --out "$OUT/$name" --report "$OUT/$name.json" --quiet
         seconds="$(field "$OUT/$name.json" seconds)"
         "$BIN/compare" "$OUT/$name.exr" "$OUT/ours_ref_${REF_SPP}spp_seed1.exr" \
             --second-half "$OUT/ours_ref_${REF_SPP}spp_seed2.exr" > "$OUT/${name}_error.json"
-        echo "ours ($sampler),$spp,$seconds,$(field "$OUT/${name}_error.json" rmse_corrected),$(
+        echo "ours ($variant),$spp,$seconds,$(field "$OUT/${name}_error.json" rmse_corrected),$(
             awk -v m="$(field "$OUT/${name}_error.json" reference_noise_mse)" 'BEGIN{print sqrt(m)}')" >> "$CSV"
     done
     # Cycles: the wall time Blender measured around its render call (scene sync, BVH build,

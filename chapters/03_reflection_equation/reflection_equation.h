@@ -36,8 +36,8 @@ const char* estimator_name(Estimator e);
 
 // One light sample of the reflection equation at `si`: f L cos / p_light towards a point chosen
 // by the light sampler, 0 if it is occluded or behind the surface; with `mis`, weighted against
-// the BSDF's density for the same direction. (Lesson 4 calls it at every path vertex: this is
-// next-event estimation.)
+// the BSDF's density for the same direction. (Lesson 4 takes the same sample at every path
+// vertex: next-event estimation.)
 Color light_sample_term(const Scene& scene, const LightSampler& lights,
                         const SurfaceInteraction& si, const Bsdf& bsdf, Rng& rng, bool mis,
                         MisHeuristic heuristic);

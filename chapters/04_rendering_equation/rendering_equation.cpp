@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "bsdf.h"
-#include "reflection_equation.h"
 #include "sampling.h"
 
 namespace lessons {
