@@ -296,10 +296,13 @@ float LightSampler::area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q,
 }
 
 float LightSampler::pdf(const Vec3& p, const SurfaceInteraction& light_hit) const {
-    const auto it = light_of_primitive_.find(light_hit.prim.bits);
+    return pdf(p, light_hit.prim, light_hit.p, light_hit.n_geo);
+}
+
+float LightSampler::pdf(const Vec3& p, PrimRef light, const Vec3& q, const Vec3& n_q) const {
+    const auto it = light_of_primitive_.find(light.bits);
     if (it == light_of_primitive_.end()) return 0.0f;
-    return choice_probability(it->second) *
-           area_pdf(lights_[it->second].index, p, light_hit.p, light_hit.n_geo);
+    return choice_probability(it->second) * area_pdf(lights_[it->second].index, p, q, n_q);
 }
 
 }  // namespace lessons

@@ -78,6 +78,8 @@ public:
     // The density sample() has of producing direction wi that reaches the emissive surface
     // `light_hit` (found by tracing a ray from p): for weighting BSDF samples that hit lights.
     float pdf(const Vec3& p, const SurfaceInteraction& light_hit) const;
+    // The same for the point q (unit geometric normal n_q) of the emissive primitive `light`.
+    float pdf(const Vec3& p, PrimRef light, const Vec3& q, const Vec3& n_q) const;
     // The same for a direction that escapes to the uniform environment.
     float environment_pdf() const;
 

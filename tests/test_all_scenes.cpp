@@ -28,6 +28,7 @@ TEST(AllScenes, EveryLessonRendersEverySceneWithoutNaNOrInf) {
              make_reflection_model(scene, lights, {Estimator::Uniform, MisHeuristic::Power})},
             {"04", make_path_tracing_model(scene, lights, {})},
             {"04 plain", make_path_tracing_model(scene, lights, {false, 0, 3, 0})},
+            {"04 light paths", make_path_tracing_model(scene, lights, {true, 0, 3, 0, true})},
         };
         for (const auto& [name, model] : models) {
             RenderSettings settings;

@@ -17,7 +17,7 @@ double area_density(float pdf_dir, const Vec3& from, const Vec3& to, const Vec3&
     const Vec3 d = to - from;
     const double d2 = glm::dot(d, d);
     if (!(d2 > 0.0)) return 0.0;
-    return pdf_dir * std::fabs(glm::dot(n_to, d)) / (d2 * std::sqrt(d2));
+    return static_cast<double>(pdf_dir) * std::fabs(glm::dot(n_to, d)) / (d2 * std::sqrt(d2));
 }
 
 // A camera-path vertex X, as the weights of the vertices after it need it.
@@ -41,6 +41,7 @@ LastSegments last_segments(const LightSampler& lights, const PathVertex& x, cons
     if (!x.connects) return {pdf_bsdf, pdf_next_event, 0.0};  // Y's two: X's density cancels
     const double x_to_y = area_density(x.pdf_next, x.p, y, n_y);
     const double y_to_q = area_density(1.0f, y, q, n_q);
+    if (!(y_to_q > 0.0)) return {0.0, 0.0, 0.0};  // q = Y, or seen edge-on: no strategy
     // The light path: q by the light's density per area, then the direction q -> Y.
     const LightSampler::EmissionPdf e = lights.emission_pdf(light, n_q, glm::normalize(y - q));
     return {x_to_y * pdf_bsdf * y_to_q, x_to_y * pdf_next_event * y_to_q,
@@ -52,13 +53,14 @@ LastSegments last_segments(const LightSampler& lights, const PathVertex& x, cons
 std::optional<LightVertex> trace_light_path(const Scene& scene, const LightSampler& lights,
                                             Rng& rng) {
     const float u_choose = rng.uniform();
-    const Vec2 u_point(rng.uniform(), rng.uniform()), u_dir(rng.uniform(), rng.uniform());
+    const Vec2 u_point{rng.uniform(), rng.uniform()}, u_dir{rng.uniform(), rng.uniform()};
     const std::optional<EmissionSample> e = lights.sample_emission(u_choose, u_point, u_dir);
     if (!e) return std::nullopt;
     const std::optional<Hit> hit = scene.intersect(e->ray);
     if (!hit) return std::nullopt;
     LightVertex v;
     v.y = scene.interaction(e->ray, *hit);
+    // A mirror or glass Y reflects into one direction only, which a connection never meets.
     if (Bsdf(scene.material(v.y.material), v.y).is_delta()) return std::nullopt;
     // L_e leaves q along the ray; times cos(theta_q) and divided by the densities of q and of
     // the direction, it is the light path's throughput, the light-side counterpart of beta.
@@ -68,11 +70,7 @@ std::optional<LightVertex> trace_light_path(const Scene& scene, const LightSampl
     v.q = e->point;
     v.n_q = e->normal;
     // The density next-event estimation at Y has of choosing q (for the weights).
-    SurfaceInteraction light_hit;
-    light_hit.p = v.q;
-    light_hit.n_geo = v.n_q;
-    light_hit.prim = v.emitter;
-    v.pdf_next_event = lights.pdf(v.y.p, light_hit);
+    v.pdf_next_event = lights.pdf(v.y.p, v.emitter, v.q, v.n_q);
     return v;
 }
 
@@ -94,17 +92,19 @@ Color connect_light_vertex(const Scene& scene, const LightSampler& lights,
     const Color f_y = bsdf_y.eval(-w, to_q);
     const float cos_y_q = std::fabs(glm::dot(y.n_geo, to_q));  // against the geometric normal
     if (is_black(f_y) || !(cos_y_q > 0.0f)) return Color(0.0f);
+    // Weighted against the two camera-path strategies for the same last two segments.
+    const LastSegments p =
+        last_segments(lights, {x.p, x.n_geo, bsdf_x.pdf(x.wo, w), true}, y.p, y.n_geo,
+                      bsdf_y.pdf(-w, to_q), lv.pdf_next_event, lv.emitter, lv.q, lv.n_q);
+    const float weight = power_heuristic(p.light_path, p.bsdf, p.next_event);
+    if (!(weight > 0.0f)) return Color(0.0f);
     if (scene.occluded(spawn_ray_between(x.surface_point(), y.surface_point()))) return Color(0.0f);
     // f_X cos_X G(X, Y) f_Y, times the light path's throughput. G(X, Y) = cos_X cos_Y / d^2 has
     // its cos_X in f_X's cosine (shading normal). At Y, the camera path's integrand has f_Y times
     // cos against the shading normal towards q, while the light path's density gave the
     // geometric one: their ratio, 1 on flat surfaces, makes the two integrands the same.
-    const Color contribution = f_x * bsdf_x.abs_cos(w) * (std::fabs(glm::dot(y.n_geo, w)) / d2) *
-                               f_y * (bsdf_y.abs_cos(to_q) / cos_y_q) * lv.beta;
-    const LastSegments p =
-        last_segments(lights, {x.p, x.n_geo, bsdf_x.pdf(x.wo, w), true}, y.p, y.n_geo,
-                      bsdf_y.pdf(-w, to_q), lv.pdf_next_event, lv.emitter, lv.q, lv.n_q);
-    return power_heuristic(p.light_path, p.bsdf, p.next_event) * contribution;
+    return weight * f_x * bsdf_x.abs_cos(w) * (std::fabs(glm::dot(y.n_geo, w)) / d2) * f_y *
+           (bsdf_y.abs_cos(to_q) / cos_y_q) * lv.beta;
 }
 
 Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& camera_ray, Rng& rng,
@@ -121,7 +121,10 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
     Rng light_rng = rng;
     if (light_paths)
         for (int i = 0; i < 5; ++i) rng.uniform();
-    std::optional<std::optional<LightVertex>> light_path;
+    bool light_path_traced = false;
+    std::optional<LightVertex> light_path;  // none if it found no surface to join
+    // The longest path any strategy may make: the depth limit, or the safety cut.
+    const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
 
     Color beta(1.0f);  // path throughput: product of f cos / p along the path so far
     Ray ray = camera_ray;
@@ -161,10 +164,10 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
         // Next-event estimation: a light sample at this vertex, f L cos / p_light, as in lesson
         // 3, MIS-weighted against the BSDF (and the light path); it is light that bounces once
         // more.
-        const bool nee_allowed = options.max_depth == 0 || segments + 1 <= options.max_depth;
+        const bool nee_allowed = segments + 1 <= longest;
         if (options.next_event && !bsdf.is_delta() && nee_allowed) {
             const float u_choose = rng.uniform();
-            const Vec2 u_light(rng.uniform(), rng.uniform());
+            const Vec2 u_light{rng.uniform(), rng.uniform()};
             const std::optional<LightSample> ls = lights.sample(at, u_choose, u_light);
             const Color f = ls ? bsdf.eval(si.wo, ls->wi) : Color(0.0f);
             if (!is_black(f) && !scene.occluded(ls->shadow_ray, ls->emitter)) {
@@ -183,12 +186,14 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
 
         // Light-path connection (--light-paths): this vertex X to the light path's first vertex
         // Y; light that bounces twice more.
-        const bool connects = light_paths && !bsdf.is_delta() &&
-                              (options.max_depth == 0 || segments + 2 <= options.max_depth);
+        const bool connects = light_paths && !bsdf.is_delta() && segments + 2 <= longest;
         if (connects) {
-            if (!light_path) light_path = trace_light_path(scene, lights, light_rng);
-            if (*light_path)
-                add(bounce + 2, beta * connect_light_vertex(scene, lights, si, bsdf, **light_path));
+            if (!light_path_traced) {
+                light_path = trace_light_path(scene, lights, light_rng);
+                light_path_traced = true;
+            }
+            if (light_path)
+                add(bounce + 2, beta * connect_light_vertex(scene, lights, si, bsdf, *light_path));
         }
 
         // Continue the path: wi from the BSDF, beta *= f cos / p.
@@ -227,11 +232,22 @@ Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
             return path_trace(scene, lights, ray, rng, options, layers);
         };
     }
-    model.notes.push_back(options.next_event
-                              ? "estimator: next-event estimation with BSDF sampling, combined by "
-                                "MIS (power heuristic)"
-                              : "estimator: plain path tracing, BSDF sampling only (no next-event "
-                                "estimation)");
+    const bool light_paths = options.light_paths && options.next_event;
+    model.notes.push_back(
+        light_paths ? "estimator: next-event estimation, BSDF sampling and a light path of one "
+                      "segment joined to every vertex, combined by MIS (power heuristic)"
+        : options.next_event ? "estimator: next-event estimation with BSDF sampling, combined by "
+                               "MIS (power heuristic)"
+                             : "estimator: plain path tracing, BSDF sampling only (no next-event "
+                               "estimation)");
+    if (options.light_paths && !options.next_event)
+        model.notes.push_back(
+            "no light paths: they are weighed against next-event estimation, "
+            "which --plain turns off");
+    if (light_paths && scene.area_lights().empty())
+        model.notes.push_back(
+            "no light paths start: only emissive surfaces start them, not point "
+            "lights or the background");
     if (!options.next_event && lights.has_point_lights())
         model.notes.push_back(
             "the scene's point lights are invisible without next-event "
