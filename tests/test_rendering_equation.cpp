@@ -209,6 +209,44 @@ TEST(RenderingEquation, LightPathsAgreeWithNextEventEstimationPixelByPixel) {
     }
 }
 
+TEST(RenderingEquation, LightPathsSeeInterpolatedNormalsAsCameraPathsDo) {
+    // A floor of two triangles whose vertex normals all lean 40 degrees towards +x, a small lamp
+    // above it and a wall behind it, seen from the front: much of the wall's light comes from
+    // the floor, where a light path lands on a shading normal far from the geometric one. The
+    // connection must then scale f_Y by cos(shading) / cos(geometric) towards the lamp, or the
+    // wall's pixels drift from what next-event estimation gives (without it, 102 of 192
+    // channels agreed). It also caught connections to triangles that their own triangle
+    // blocked (78 of 192 agreed, with flat normals too): the shadow ray now ignores Y's own
+    // primitive, as next-event estimation's ignores the light's.
+    Scene scene;
+    const uint32_t white = test::add_diffuse(scene, Color(0.8f));
+    const Vec3 n = glm::normalize(Vec3(std::sin(0.7f), std::cos(0.7f), 0.0f));
+    scene.add_mesh({Vec3(-1, 0, -1), Vec3(1, 0, -1), Vec3(1, 0, 1), Vec3(-1, 0, 1)}, {n, n, n, n},
+                   {}, {{{0, 2, 1}, white, true}, {{0, 3, 2}, white, true}});
+    scene.add_quad(Quad(Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 2, 0)), white);  // the wall
+    Material lamp;
+    lamp.name = "lamp";
+    lamp.emission = Color(20.0f);
+    scene.add_quad(Quad(Vec3(-0.1f, 1.0f, -0.1f), Vec3(0.2f, 0, 0), Vec3(0, 0, 0.2f)),
+                   scene.add_material(lamp));
+    scene.width = scene.height = 8;
+    scene.camera = Camera(Vec3(0, 1, -3), Vec3(0, 0.8f, 1), Vec3(0, 1, 0), 40.0f, 1.0f);
+    scene.commit();
+    const LightSampler lights(scene);
+    RenderSettings settings;
+    settings.progress = false;
+    PathOptions nee, light_paths;
+    light_paths.light_paths = true;
+    settings.seed = 11;
+    const RenderResult a =
+        render_scene(scene, make_path_tracing_model(scene, lights, light_paths), 1 << 16, settings);
+    settings.seed = 12;
+    const RenderResult b =
+        render_scene(scene, make_path_tracing_model(scene, lights, nee), 1 << 16, settings);
+    const auto [passed, tested] = channels_that_agree(a, b);
+    EXPECT_GE(passed, 0.99 * tested) << passed << " of " << tested;
+}
+
 TEST(RenderingEquation, LightPathsLowerTheVarianceUnderTheCeilingOfTheRtiowBox) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box_rtiow.toml", {16, 16});
