@@ -67,6 +67,22 @@ std::pair<double, double> image_mean(const Image& image, const Image& variance) 
     return {mean, var};
 }
 
+// Two renders of one scene by lesson 4 with other options, sample counts and seeds.
+std::pair<RenderResult, RenderResult> render_both(const Scene& scene, const PathOptions& a,
+                                                  int spp_a, const PathOptions& b, int spp_b,
+                                                  uint64_t seed) {
+    const LightSampler lights(scene);
+    RenderSettings settings;
+    settings.progress = false;
+    settings.seed = seed;
+    RenderResult first =
+        render_scene(scene, make_path_tracing_model(scene, lights, a), spp_a, settings);
+    settings.seed = seed + 1;
+    RenderResult second =
+        render_scene(scene, make_path_tracing_model(scene, lights, b), spp_b, settings);
+    return {std::move(first), std::move(second)};
+}
+
 // The per-pixel z-test of two renders of one scene with their variance images (Mitsuba's
 // test_renders): how many of the channels agree at 0.01, Sidak-corrected over all of them, and
 // how many were tested. A channel with no variance in either must be equal.
@@ -160,17 +176,9 @@ TEST(RenderingEquation, MisAndThePlainEstimatorAgreePixelByPixel) {
     // means agreed to 0.4%). 8192 samples per pixel make the normal approximation hold.
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {16, 16});
-    const LightSampler lights(scene);
-    RenderSettings settings;
-    settings.progress = false;
     PathOptions mis, plain;
     plain.next_event = false;
-    settings.seed = 3;
-    const RenderResult a =
-        render_scene(scene, make_path_tracing_model(scene, lights, mis), 1024, settings);
-    settings.seed = 4;
-    const RenderResult b =
-        render_scene(scene, make_path_tracing_model(scene, lights, plain), 8192, settings);
+    const auto [a, b] = render_both(scene, mis, 1024, plain, 8192, 3);
     const auto [passed, tested] = channels_that_agree(a, b);
     EXPECT_GE(passed, 0.9975 * tested) << passed << " of " << tested;
     EXPECT_EQ(a.nan_samples + b.nan_samples + a.inf_samples + b.inf_samples, 0u);
@@ -190,15 +198,7 @@ TEST(RenderingEquation, LightPathsAgreeWithNextEventEstimationPixelByPixel) {
     light_paths.light_paths = true;
     for (const auto& [file, size] : cases) {
         const Scene scene = load_scene(std::string(LESSONS_SOURCE_DIR) + file, {size, size});
-        const LightSampler lights(scene);
-        RenderSettings settings;
-        settings.progress = false;
-        settings.seed = 7;
-        const RenderResult a = render_scene(
-            scene, make_path_tracing_model(scene, lights, light_paths), 2048, settings);
-        settings.seed = 8;
-        const RenderResult b =
-            render_scene(scene, make_path_tracing_model(scene, lights, nee), 4096, settings);
+        const auto [a, b] = render_both(scene, light_paths, 2048, nee, 4096, 7);
         const auto [passed, tested] = channels_that_agree(a, b);
         EXPECT_GE(passed, 0.9975 * tested) << passed << " of " << tested << " in " << file;
         EXPECT_EQ(a.nan_samples + a.inf_samples, 0u) << file;
@@ -232,17 +232,9 @@ TEST(RenderingEquation, LightPathsSeeInterpolatedNormalsAsCameraPathsDo) {
     scene.width = scene.height = 8;
     scene.camera = Camera(Vec3(0, 1, -3), Vec3(0, 0.8f, 1), Vec3(0, 1, 0), 40.0f, 1.0f);
     scene.commit();
-    const LightSampler lights(scene);
-    RenderSettings settings;
-    settings.progress = false;
     PathOptions nee, light_paths;
     light_paths.light_paths = true;
-    settings.seed = 11;
-    const RenderResult a =
-        render_scene(scene, make_path_tracing_model(scene, lights, light_paths), 1 << 16, settings);
-    settings.seed = 12;
-    const RenderResult b =
-        render_scene(scene, make_path_tracing_model(scene, lights, nee), 1 << 16, settings);
+    const auto [a, b] = render_both(scene, light_paths, 1 << 16, nee, 1 << 16, 11);
     const auto [passed, tested] = channels_that_agree(a, b);
     EXPECT_GE(passed, 0.99 * tested) << passed << " of " << tested;
 }
