@@ -53,7 +53,11 @@ inline Ray spawn_ray_to(const SurfacePoint& from, const Vec3& target) {
 }
 
 // A shadow ray between two surface points: both ends are offset off their surfaces, towards
-// each other, so neither the surface left nor the surface reached (e.g. an area light) is hit.
+// each other, so the surface left is never hit. The surface reached (e.g. an area light) can
+// still be found near t = 1: the offset bounds the end point's error, not that of the hit
+// distance the intersection test computes (lesson 4's light-path test caught a triangle blocking
+// segments that ended on it). So callers also name the primitive the segment ends on to
+// Scene::occluded, which ignores it.
 inline Ray spawn_ray_between(const SurfacePoint& from, const SurfacePoint& to) {
     const Vec3 origin = offset_ray_origin(from, to.p - from.p);
     const Vec3 target = offset_ray_origin(to, from.p - to.p);
