@@ -110,6 +110,28 @@ TEST(Cli, ReflectionEquationFlagsAreCheckedAndDocumented) {
         EXPECT_NE(help.output.find(word), std::string::npos) << word;
 }
 
+TEST(Cli, RenderingEquationSaysWhenLightPathsAreOnOrUnused) {
+    const fs::path dir = fresh_dir("light_paths");
+    const std::string lesson = kBin + "/04_rendering_equation --width 16 --height 16 --spp 2 ";
+    const RunResult on =
+        run(lesson + "--light-paths --scene " + kSource + "/scenes/cornell_box_rtiow.toml --out " +
+            (dir / "on").string() + " --report " + (dir / "on.json").string());
+    ASSERT_EQ(on.exit_code, 0) << on.output;
+    EXPECT_NE(read_file(dir / "on.json").find("a light path of one segment joined to every vertex"),
+              std::string::npos);
+    const RunResult plain = run(lesson + "--light-paths --plain --out " + (dir / "plain").string());
+    EXPECT_EQ(plain.exit_code, 0) << plain.output;
+    EXPECT_NE(plain.output.find("no light paths: they are weighed against next-event estimation"),
+              std::string::npos)
+        << plain.output;
+    const RunResult sky = run(lesson + "--light-paths --scene " + kSource +
+                              "/scenes/whitted_1979.toml --out " + (dir / "sky").string());
+    EXPECT_EQ(sky.exit_code, 0) << sky.output;
+    EXPECT_NE(sky.output.find("no light paths start"), std::string::npos) << sky.output;
+    const RunResult help = run(kBin + "/04_rendering_equation --help");
+    EXPECT_NE(help.output.find("--light-paths"), std::string::npos);
+}
+
 TEST(Cli, BadFlagsExitWithTwo) {
     EXPECT_EQ(run(kBin + "/01_ray_casting --spp 0").exit_code, 2);
     EXPECT_EQ(run(kBin + "/01_ray_casting --no-such-flag").exit_code, 2);
