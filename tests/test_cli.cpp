@@ -119,7 +119,8 @@ TEST(Cli, RenderingEquationSaysWhenLightPathsAreOnOrUnused) {
     ASSERT_EQ(on.exit_code, 0) << on.output;
     EXPECT_NE(read_file(dir / "on.json").find("a light path of one segment joined to every vertex"),
               std::string::npos);
-    const RunResult plain = run(lesson + "--light-paths --plain --out " + (dir / "plain").string());
+    const RunResult plain = run(lesson + "--light-paths --plain --scene " + kSource +
+                                "/scenes/cornell_box.toml --out " + (dir / "plain").string());
     EXPECT_EQ(plain.exit_code, 0) << plain.output;
     EXPECT_NE(plain.output.find("no light paths: they are weighed against next-event estimation"),
               std::string::npos)
