@@ -67,6 +67,11 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
     if (!cdf_.empty()) cdf_.back() = 1.0f;
 }
 
+size_t LightSampler::choose_light(float u_choose) const {
+    return std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(),
+                            lights_.size() - 1);
+}
+
 float LightSampler::choice_probability(size_t light) const {
     return cdf_[light] - (light > 0 ? cdf_[light - 1] : 0.0f);
 }
@@ -78,8 +83,7 @@ float LightSampler::environment_pdf() const {
 std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_choose,
                                                 const Vec2& u) const {
     if (lights_.empty()) return std::nullopt;
-    const size_t light = std::min<size_t>(
-        std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(), lights_.size() - 1);
+    const size_t light = choose_light(u_choose);
     const float choose = choice_probability(light);
     if (!(choose > 0.0f)) return std::nullopt;
     const Entry& e = lights_[light];
@@ -228,8 +232,7 @@ SurfacePoint LightSampler::point_by_area(uint32_t area_light, const Vec2& u) con
 std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, const Vec2& u_point,
                                                             const Vec2& u_dir) const {
     if (lights_.empty()) return std::nullopt;
-    const size_t light = std::min<size_t>(
-        std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(), lights_.size() - 1);
+    const size_t light = choose_light(u_choose);
     const float choose = choice_probability(light);
     if (lights_[light].kind != Kind::Area || !(choose > 0.0f)) return std::nullopt;
     const AreaLight& area_light = scene_.area_lights()[lights_[light].index];

@@ -33,6 +33,13 @@ inline float area_to_solid_angle_pdf(float pdf_area, float distance_squared, flo
     const float c = std::fabs(cos_light);
     return c > 0.0f ? pdf_area * distance_squared / c : 0.0f;
 }
+// And back, for a direction sampled at the shading point that reaches a patch at distance d,
+// tilted by theta: p_A = p_omega |cos(theta)| / d^2 (lesson 4 weighs path vertices per area).
+inline float solid_angle_to_area_pdf(float pdf_solid_angle, float distance_squared,
+                                     float cos_theta) {
+    return distance_squared > 0.0f ? pdf_solid_angle * std::fabs(cos_theta) / distance_squared
+                                   : 0.0f;
+}
 
 struct LightSample {
     // Radiance arriving at the shading point from the sampled light point, W/(sr m^2). For a
@@ -99,6 +106,8 @@ private:
         Kind kind;
         uint32_t index;  // into scene.point_lights() or scene.area_lights()
     };
+    // The light a uniform number picks, in proportion to power (an index into lights_).
+    size_t choose_light(float u_choose) const;
     float choice_probability(size_t light) const;
     // Both take an index into scene.area_lights().
     std::optional<LightSample> sample_area(uint32_t area_light, const SurfacePoint& at,

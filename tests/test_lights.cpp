@@ -231,6 +231,18 @@ TEST(Lights, EmissionSamplesCarryThePowerOfTheLightsAndMatchTheirDensities) {
     EXPECT_NEAR(back_of_quad, 0.5 * quad, 5 * std::sqrt(0.25 * quad));
 }
 
+TEST(Lights, AreaAndSolidAngleDensitiesConvertBothWays) {
+    // p_omega = p_A d^2 / |cos| and back; zero where the patch is seen edge-on or at distance 0.
+    for (float cos_theta : {1.0f, -0.5f, 1e-3f})
+        for (float d2 : {1e-12f, 1.0f, 1e8f}) {
+            const float p_omega = area_to_solid_angle_pdf(0.25f, d2, cos_theta);
+            EXPECT_FLOAT_EQ(p_omega, 0.25f * d2 / std::fabs(cos_theta));
+            EXPECT_FLOAT_EQ(solid_angle_to_area_pdf(p_omega, d2, cos_theta), 0.25f);
+        }
+    EXPECT_EQ(area_to_solid_angle_pdf(1.0f, 1.0f, 0.0f), 0.0f);
+    EXPECT_EQ(solid_angle_to_area_pdf(1.0f, 0.0f, 1.0f), 0.0f);
+}
+
 TEST(Lights, SamplesAreFiniteAtTheEndsOfTheUnitSquare) {
     Scene scene;
     scene.add_sphere({Vec3(0, 1e4f, 0), 1.0f}, add_emitter(scene, Color(1e6f)));  // tiny, far

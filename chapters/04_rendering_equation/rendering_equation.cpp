@@ -11,13 +11,13 @@ namespace lessons {
 namespace {
 
 // The density, per unit area at `to` (unit geometric normal n_to), of reaching it along a
-// direction sampled at `from` with solid-angle density pdf_dir: p_A = p_omega |cos(theta_to)| / d^2
-// (STYLE.md's conversion, the other way round). In double: the weights below multiply two.
+// direction sampled at `from` with solid-angle density pdf_dir (lights.h's conversion). The
+// weights below multiply two such densities, in double.
 double area_density(float pdf_dir, const Vec3& from, const Vec3& to, const Vec3& n_to) {
     const Vec3 d = to - from;
-    const double d2 = glm::dot(d, d);
-    if (!(d2 > 0.0)) return 0.0;
-    return static_cast<double>(pdf_dir) * std::fabs(glm::dot(n_to, d)) / (d2 * std::sqrt(d2));
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.0f)) return 0.0;
+    return solid_angle_to_area_pdf(pdf_dir, d2, glm::dot(n_to, d) / std::sqrt(d2));
 }
 
 // A camera-path vertex X, as the weights of the vertices after it need it.
@@ -161,8 +161,7 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
             }
             add(bounce, w * beta * Le);
         }
-        if (options.max_depth > 0 && segments >= options.max_depth) break;
-        if (segments >= kLongestPath) break;
+        if (segments >= longest) break;
 
         const Bsdf bsdf(scene.material(si.material), si);
         const SurfacePoint at = si.surface_point();
