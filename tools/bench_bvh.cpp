@@ -2,7 +2,11 @@
 // installed, and how fast lesson 4 renders (docs/performance.md). A benchmark, not a test: it
 // prints figures and asserts nothing about them.
 //
-//   build/bin/bench_bvh [--quick] [--csv FILE] [--rays N]
+//   build/bin/bench_bvh [--quick] [--csv FILE] [--rays N] [--scene NAME]... [--set NAME]...
+//
+// --scene and --set (each may repeat) keep only the named scenes (cornell_box, sphere_10092,
+// sphere_99372, sphere_1002252) and measurements (the ray sets primary, shadow, diffuse and
+// random; build; render, lesson 4 on the Cornell box): a few rows at a time, for profiling.
 //
 // Scenes: the Cornell box as triangles, and a displaced sphere generated here at about 10k, 100k
 // and 1M triangles. Ray sets: coherent primary rays, shadow rays to a light, cosine-distributed
@@ -351,6 +355,9 @@ int run(int argc, char** argv) {
     bool quick = false;
     std::string csv;
     size_t ray_count = 0;
+    std::vector<std::string> only_scenes, only_sets;
+    const char* usage =
+        "usage: bench_bvh [--quick] [--csv FILE] [--rays N] [--scene NAME]... [--set NAME]...\n";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") {
@@ -365,15 +372,44 @@ int run(int argc, char** argv) {
                 std::cerr << "bench_bvh: error: --rays: not a positive integer: '" << text << "'\n";
                 return 2;
             }
+        } else if (a == "--scene" && i + 1 < argc) {
+            only_scenes.push_back(argv[++i]);
+        } else if (a == "--set" && i + 1 < argc) {
+            only_sets.push_back(argv[++i]);
         } else {
-            std::cerr << "usage: bench_bvh [--quick] [--csv FILE] [--rays N]\n";
+            std::cerr << usage;
             return a == "--help" || a == "-h" ? 0 : 2;
         }
     }
     if (ray_count == 0) ray_count = quick ? 200000 : 1000000;
+    std::vector<Row> rows;
+    auto wanted = [](const std::vector<std::string>& only, const std::string& name) {
+        return only.empty() || std::find(only.begin(), only.end(), name) != only.end();
+    };
     const int all_threads = std::max(1u, std::thread::hardware_concurrency());
     std::vector<int> thread_counts = {1};
     if (all_threads > 1) thread_counts.push_back(all_threads);
+
+    auto add = [&](const Row& r) {
+        print_row(r);
+        rows.push_back(r);
+    };
+
+    const int sphere_sides[] = {29, 91, 289};  // 10k, 100k, 1M triangles
+    for (const std::string& name : only_scenes) {
+        bool known = name == "cornell_box";
+        for (int n : sphere_sides) known |= name == "sphere_" + std::to_string(12 * n * n);
+        if (!known) {
+            std::cerr << "bench_bvh: error: --scene: no scene named '" << name << "'\n" << usage;
+            return 2;
+        }
+    }
+    for (const std::string& name : only_sets)
+        if (name != "primary" && name != "shadow" && name != "diffuse" && name != "random" &&
+            name != "build" && name != "render") {
+            std::cerr << "bench_bvh: error: --set: no ray set named '" << name << "'\n" << usage;
+            return 2;
+        }
 
 #ifdef LESSONS_HAVE_EMBREE
     std::printf("Embree %s, ", RTC_VERSION_STRING);
@@ -384,21 +420,19 @@ int run(int argc, char** argv) {
                 quick ? " (--quick)" : "");
     std::printf("%-15s %9s %-8s %-8s %2s %10s %10s %6s  %s\n", "scene", "triangles", "rays",
                 "query", "th", "ours", "embree", "ratio", "");
-    std::vector<Row> rows;
-    auto add = [&](const Row& r) {
-        print_row(r);
-        rows.push_back(r);
-    };
-
     std::vector<TriangleMesh> meshes;
-    meshes.push_back(
-        cornell_box_mesh(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml"));
-    for (int n : {29, 91, 289}) meshes.push_back(displaced_sphere(n));  // 10k, 100k, 1M
+    if (wanted(only_scenes, "cornell_box"))
+        meshes.push_back(
+            cornell_box_mesh(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml"));
+    for (int n : sphere_sides)
+        if (wanted(only_scenes, "sphere_" + std::to_string(12 * n * n)))
+            meshes.push_back(displaced_sphere(n));
 
     // Build time and memory at every size (the value columns: milliseconds; ratio = Embree's
     // time over ours, so above 1 means ours builds faster).
     // Each time is the best of kPasses builds, ours and Embree's taken in turn.
     for (const TriangleMesh& mesh : meshes) {
+        if (!wanted(only_scenes, mesh.name) || !wanted(only_sets, "build")) continue;
         double ms = kInfinity, per_tri = 0.0, bvh_per_tri = 0.0;
 #ifdef LESSONS_HAVE_EMBREE
         double embree_ms = kInfinity, embree_per_tri = 0.0, embree_2_ms = kInfinity;
@@ -439,12 +473,14 @@ int run(int argc, char** argv) {
     for (const TriangleMesh& mesh : meshes) {
         if (mesh.triangles.size() < 50000 && mesh.name != "cornell_box")
             continue;  // 10k: build only
+        if (!wanted(only_scenes, mesh.name)) continue;
         const Scene scene = suite_scene(mesh);
         const std::vector<RaySet> sets = make_ray_sets(scene, mesh, ray_count);
 #ifdef LESSONS_HAVE_EMBREE
         const EmbreeScene embree(mesh, all_threads);
 #endif
         for (const RaySet& set : sets) {
+            if (!wanted(only_sets, set.name)) continue;
             for (const std::string query : {"closest", "any"}) {
                 for (int threads : thread_counts) {
                     const bool closest = query == "closest";
@@ -490,7 +526,7 @@ int run(int argc, char** argv) {
     }
 
     // Lesson 4 on the Cornell box: samples and rays per second, 1 and all threads.
-    {
+    if (wanted(only_scenes, "cornell_box") && wanted(only_sets, "render")) {
         const Scene scene =
             load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {256, 256});
         const LightSampler lights(scene);
