@@ -276,16 +276,18 @@ bool Scene::intersect_leaf(const RayTests& tests, uint32_t first, uint32_t end, 
 std::optional<Hit> Scene::intersect(const Ray& ray) const {
     ++t_rays_traced;
     const RayTests tests = ray_tests(ray);
-    Hit best;
+    ShapeHit best;
+    uint32_t best_k = 0;  // its position in the primitive order: prims_ is read once, at the end
     const bool found = bvh_.closest_hit(ray, [&](uint32_t first, uint32_t end, float& t_max) {
         return intersect_leaf(tests, first, end, ray, t_max, [&](uint32_t k, const ShapeHit& h) {
             t_max = h.t;  // nearer hits only from now on
-            best = {h, prims_[k]};
+            best = h;
+            best_k = k;
             return false;
         });
     });
     if (!found) return std::nullopt;
-    return best;
+    return Hit{best, prims_[best_k]};
 }
 
 bool Scene::occluded(const Ray& ray, std::optional<PrimRef> target) const {
