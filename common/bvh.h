@@ -178,6 +178,10 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
             found |= intersect(first, first + BvhNode::leaf_count(current), t_max);
         } else {
             const BvhNode& node = nodes_[current];
+            // The box test reads the node's first three cache lines; the child indices, in the
+            // fourth, are needed only after it. Ask for them now, so that their miss overlaps
+            // the box test's instead of following it (docs/performance.md, design item 11).
+            __builtin_prefetch(node.child);
             const BoxHits hits = box_entries(box_ray, node, t_max);
             if (hits.mask != 0) {
                 // Visit the nearest child next; push the others farthest first, so that they
@@ -219,6 +223,7 @@ bool Bvh::any_hit(const Ray& ray, OccludedFn&& occluded) const {
             if (occluded(first, first + BvhNode::leaf_count(current))) return true;
         } else {
             const BvhNode& node = nodes_[current];
+            __builtin_prefetch(node.child);  // as in closest_hit
             const unsigned mask = box_entries(box_ray, node, ray.t_max).mask;
             if (mask != 0) {
                 // Any order will do; go on with one child, keep the others for later.
