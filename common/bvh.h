@@ -152,6 +152,15 @@ public:
     bool any_hit(const Ray& ray, OccludedFn&& occluded) const;
 
 private:
+    // Asks for the four cache lines of a child kept for later, if it is a node, without waiting
+    // for them: by the time it is popped they have usually arrived (docs/performance.md, design
+    // item 11). A leaf's primitives are the caller's, so a leaf is left alone.
+    void prefetch(uint32_t child) const {
+        if (BvhNode::is_leaf(child)) return;
+        const char* bytes = reinterpret_cast<const char*>(&nodes_[child]);
+        for (int line = 0; line < 4; ++line) __builtin_prefetch(bytes + 64 * line);
+    }
+
     LargePageVector<BvhNode> nodes_;  // nodes_[0] is the root (large_pages.h)
     std::vector<uint32_t> prim_index_;
     Bounds3 bounds_;
@@ -196,6 +205,7 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
                     int j = top++;
                     for (; j > base && stack[j - 1].t < hits.t[i]; --j) stack[j] = stack[j - 1];
                     stack[j] = {node.child[i], hits.t[i]};
+                    prefetch(node.child[i]);
                 }
                 current = node.child[nearest];
                 continue;
@@ -227,8 +237,10 @@ bool Bvh::any_hit(const Ray& ray, OccludedFn&& occluded) const {
             const unsigned mask = box_entries(box_ray, node, ray.t_max).mask;
             if (mask != 0) {
                 // Any order will do; go on with one child, keep the others for later.
-                for (unsigned m = mask & (mask - 1); m != 0; m &= m - 1)
+                for (unsigned m = mask & (mask - 1); m != 0; m &= m - 1) {
                     stack[top++] = node.child[std::countr_zero(m)];
+                    prefetch(stack[top - 1]);
+                }
                 current = node.child[std::countr_zero(mask)];
                 continue;
             }
