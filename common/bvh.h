@@ -22,7 +22,9 @@
 // by side in memory.
 // Traversal: front to back. A node's eight boxes are tested at once; the children hit are pushed
 // farthest first, so the nearest is visited next. A closest-hit query drops stacked subtrees that
-// start beyond the nearest hit found so far; an any-hit query stops at the first hit.
+// start beyond the nearest hit found so far; an any-hit query stops at the first hit. Memory is
+// asked for before it is needed: a node's child indices as it is entered, a stacked node as it is
+// pushed, so that a miss overlaps work instead of following it.
 #pragma once
 
 #include <bit>
