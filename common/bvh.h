@@ -207,9 +207,9 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
                     int j = top++;
                     for (; j > base && stack[j - 1].t < hits.t[i]; --j) stack[j] = stack[j - 1];
                     stack[j] = {node.child[i], hits.t[i]};
-                    prefetch(node.child[i]);
+                    prefetch(node.child[i]);  // for nothing if it is dropped, but usually not
                 }
-                current = node.child[nearest];
+                current = node.child[nearest];  // read at once, next turn: no need to ask ahead
                 continue;
             }
         }
@@ -240,8 +240,9 @@ bool Bvh::any_hit(const Ray& ray, OccludedFn&& occluded) const {
             if (mask != 0) {
                 // Any order will do; go on with one child, keep the others for later.
                 for (unsigned m = mask & (mask - 1); m != 0; m &= m - 1) {
-                    stack[top++] = node.child[std::countr_zero(m)];
-                    prefetch(stack[top - 1]);
+                    const uint32_t child = node.child[std::countr_zero(m)];
+                    stack[top++] = child;
+                    prefetch(child);
                 }
                 current = node.child[std::countr_zero(mask)];
                 continue;
