@@ -16,8 +16,24 @@ constexpr int kBins = 16;
 constexpr float kTraversalCost = 1.0f;  // relative to one primitive intersection
 constexpr int kMedianSplitDepth = 64;   // deeper than this, split at the median (see kStackSize)
 
+// A box as two vectors of four floats (x, y, z and an unused lane), so that growing it by another
+// box takes one minimum and one maximum instruction: binning does so three times per primitive
+// and node, the build's innermost loop. Bounds3 takes six scalar ones. The comparisons are
+// Bounds3::expand's, lane by lane, so the boxes (and the tree) are the same bits.
+struct Box4 {
+    Float4 lo = Float4{} + kInfinity, hi = Float4{} - kInfinity;
+    static Box4 of(const Bounds3& b) {
+        return {Float4{b.min.x, b.min.y, b.min.z, 0.0f}, Float4{b.max.x, b.max.y, b.max.z, 0.0f}};
+    }
+    void expand(const Box4& b) {
+        lo = b.lo < lo ? b.lo : lo;
+        hi = hi < b.hi ? b.hi : hi;
+    }
+    Bounds3 bounds() const { return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}; }
+};
+
 struct Bin {
-    Bounds3 bounds;
+    Box4 box;
     uint32_t count = 0;
 };
 
@@ -121,12 +137,12 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
     // The build sorts copies of the boxes, each with its centroid and primitive index: every
     // pass over a node's primitives then reads memory in order (no index chasing).
     struct BuildRef {
-        Bounds3 box;
+        Box4 box;
         Vec3 centroid;
         uint32_t prim;
     };
     std::vector<BuildRef> refs(n);
-    for (uint32_t i = 0; i < n; ++i) refs[i] = {boxes[i], boxes[i].centroid(), i};
+    for (uint32_t i = 0; i < n; ++i) refs[i] = {Box4::of(boxes[i]), boxes[i].centroid(), i};
 
     std::vector<BinaryNode> binary;
     binary.reserve(2 * n);
@@ -139,11 +155,13 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
         BuildRef* const first = refs.data() + task.begin;
         BuildRef* const last = refs.data() + task.end;
 
-        Bounds3 node_box, centroid_box;
+        Box4 node_box4;
+        Bounds3 centroid_box;
         for (const BuildRef* r = first; r != last; ++r) {
-            node_box.expand(r->box);
+            node_box4.expand(r->box);
             centroid_box.expand(r->centroid);
         }
+        const Bounds3 node_box = node_box4.bounds();
         BinaryNode& node = binary[task.node];
         node.box = node_box;
         node.first = task.begin;
@@ -163,7 +181,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
             for (int axis = 0; axis < 3; ++axis) {
                 Bin& bin =
                     bins[axis][bin_of(r->centroid[axis], centroid_box.min[axis], scale[axis])];
-                bin.bounds.expand(r->box);
+                bin.box.expand(r->box);
                 ++bin.count;
             }
 
@@ -175,22 +193,22 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
             // Sweep from the right to get the area and count of every right-hand side.
             std::array<float, kBins> right_area{};
             std::array<uint32_t, kBins> right_count{};
-            Bounds3 acc;
+            Box4 acc;
             uint32_t acc_count = 0;
             for (int b = kBins - 1; b > 0; --b) {
-                acc.expand(bins[axis][b].bounds);
+                acc.expand(bins[axis][b].box);
                 acc_count += bins[axis][b].count;
-                right_area[b] = acc.surface_area();
+                right_area[b] = acc.bounds().surface_area();
                 right_count[b] = acc_count;
             }
-            acc = Bounds3{};
+            acc = Box4{};
             acc_count = 0;
             for (int b = 0; b < kBins - 1; ++b) {
-                acc.expand(bins[axis][b].bounds);
+                acc.expand(bins[axis][b].box);
                 acc_count += bins[axis][b].count;
                 if (acc_count == 0 || right_count[b + 1] == 0) continue;
                 const float cost =
-                    kTraversalCost + (acc.surface_area() * leaf_cost(acc_count) +
+                    kTraversalCost + (acc.bounds().surface_area() * leaf_cost(acc_count) +
                                       right_area[b + 1] * leaf_cost(right_count[b + 1])) /
                                          node_area;
                 if (cost < best.cost) best = {axis, b, cost};
