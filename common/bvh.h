@@ -207,7 +207,7 @@ bool Bvh::closest_hit(const Ray& ray, IntersectFn&& intersect) const {
                     int j = top++;
                     for (; j > base && stack[j - 1].t < hits.t[i]; --j) stack[j] = stack[j - 1];
                     stack[j] = {node.child[i], hits.t[i]};
-                    prefetch(node.child[i]);  // for nothing if it is dropped, but usually not
+                    prefetch(node.child[i]);  // wasted only if a nearer hit drops it later
                 }
                 current = node.child[nearest];  // read at once, next turn: no need to ask ahead
                 continue;
