@@ -161,10 +161,17 @@ struct WatertightRay {
         const float d[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
         const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
         const float ax = std::fabs(d[0]), ay = std::fabs(d[1]), az = std::fabs(d[2]);
-        kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-        kx = (kz + 1) % 3;
-        ky = (kx + 1) % 3;
-        if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding of the 2D edge functions
+        // The axis of the largest component, and the swap below, by arithmetic on comparison
+        // results instead of branches: for incoherent rays both are random, and a mispredicted
+        // branch costs more than these few integer operations (docs/performance.md, item 12).
+        const int y_over_x = !(ax > ay);  // kz = 0 or 1, before z is considered
+        const float larger = y_over_x ? ay : ax;
+        const int z_largest = !(larger > az);
+        kz = y_over_x + z_largest * (2 - y_over_x);
+        const int next = kz == 2 ? 0 : kz + 1, after = 3 - kz - next;
+        const int flip = -static_cast<int>(d[kz] < 0.0f);  // keep the winding of the edge functions
+        kx = next ^ ((next ^ after) & flip);
+        ky = after ^ ((next ^ after) & flip);
         sx = d[kx] / d[kz];
         sy = d[ky] / d[kz];
         sz = 1.0f / d[kz];
