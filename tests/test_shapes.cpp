@@ -146,6 +146,32 @@ TEST(Triangle, BarycentricsAndDistanceMatchClosedForm) {
     EXPECT_NEAR(mt.t, 3.0f, 1e-6f);
 }
 
+// The shear frame's axes (chosen without branches): z is the direction's largest component (the
+// last of x, y, z on ties), and x, y, z keep the winding of the edge functions: a cyclic order
+// of the axes when that component is positive, the other order when it is negative. Every
+// direction made of the values below, ties, zeros and infinities included.
+TEST(Triangle, TheShearAxesFollowTheLargestComponentAndKeepTheWinding) {
+    const float values[] = {0.0f,  -0.0f, 0.5f,  -0.5f,     1.0f,
+                            -1.0f, 2.0f,  -2.0f, kInfinity, -kInfinity};
+    int checked = 0;
+    for (float x : values)
+        for (float y : values)
+            for (float z : values) {
+                const float d[3] = {x, y, z};
+                const WatertightRay wr(Ray{Vec3(0.0f), Vec3(x, y, z)});
+                int largest = 0;
+                for (int axis = 1; axis < 3; ++axis)
+                    if (std::fabs(d[axis]) >= std::fabs(d[largest])) largest = axis;
+                ASSERT_EQ(wr.kz, largest) << x << " " << y << " " << z;
+                const bool cyclic = wr.kx == (wr.kz + 1) % 3 && wr.ky == (wr.kz + 2) % 3;
+                const bool swapped = wr.ky == (wr.kz + 1) % 3 && wr.kx == (wr.kz + 2) % 3;
+                EXPECT_EQ(cyclic, !(d[largest] < 0.0f)) << x << " " << y << " " << z;
+                EXPECT_EQ(swapped, d[largest] < 0.0f) << x << " " << y << " " << z;
+                ++checked;
+            }
+    EXPECT_EQ(checked, 1000);
+}
+
 TEST(Triangle, FourAtOnceGiveTheSingleTestsBitsExactly) {
     // TriangleBlock runs intersect_triangle's arithmetic on four triangles at once: every lane
     // it decides must agree with the scalar test on hit or miss, and on t, the barycentrics and
