@@ -215,9 +215,12 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
             }
         }
 
-        // Up to kMaxLeafSize primitives always make a leaf: its triangles are tested together,
-        // four at once (Scene), which costs about what one test does.
-        if (count <= static_cast<uint32_t>(kMaxLeafSize)) continue;  // leaf
+        // Up to kMaxLeafSize primitives make a leaf, tested together, four at once (Scene), for
+        // about the cost of one test; unless a split costs less still (large primitives whose
+        // boxes together span far more than each does: the walls of a room; docs/performance.md,
+        // design item 13).
+        if (count <= static_cast<uint32_t>(kMaxLeafSize) && !(best.cost < leaf_cost(count)))
+            continue;  // leaf
 
         uint32_t mid;
         if (best.axis >= 0 && task.depth < static_cast<uint32_t>(kMedianSplitDepth)) {

@@ -7,10 +7,11 @@
 // binned along each axis; the split minimising
 //     cost = C_trav + (A_left C(N_left) + A_right C(N_right)) / A_node
 // is taken, with C(n) = ceil(n / 4) + n / 4 the cost of a leaf of n in units of one test. A node
-// of at most four primitives is always a leaf and a larger one is always split, so C_trav (1)
-// does not change which split wins: only C's shape does. A leaf's triangles are tested together,
-// four at once (TriangleBlock), for about the cost of one test, hence the ceil(n / 4); the n / 4
-// keeps the leaves of small scenes tight (bvh.cpp, leaf_cost).
+// of more than four primitives is always split; one of at most four is split only where that
+// costs less than its leaf, C(n): in a room, two walls in one leaf have a box the size of the
+// room, while each wall alone has a flat box that only the rays crossing it enter. A leaf's
+// triangles are tested together, four at once (TriangleBlock), for about the cost of one test,
+// hence the ceil(n / 4); the n / 4 keeps the leaves of small scenes tight (bvh.cpp, leaf_cost).
 // Layout: the binary tree is then collapsed into an 8-wide one (Dammertz et al., "Shallow
 // Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", 2008; Embree's
 // BVH8): a node holds the boxes of up to eight children side by side, the x minima of all eight,
