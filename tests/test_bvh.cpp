@@ -1,6 +1,8 @@
 // The BVH must return exactly what a brute-force loop over every primitive returns.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "bvh.h"
 #include "scene.h"
 #include "test_util.h"
@@ -133,6 +135,35 @@ TEST(Bvh, EveryPrimitiveIsInExactlyOneLeafAndBoxesNest) {
     }
     EXPECT_EQ(nodes, static_cast<int>(bvh.nodes().size()));  // every node reached exactly once
     for (int s : seen) EXPECT_EQ(s, 1);
+}
+
+// Two walls of a room, the floor and the back wall, each of two triangles (whose boxes are the
+// wall's): a leaf of all four would have the box of the whole room, which every ray inside
+// enters; the SAH gives each wall a leaf of its own, with a flat box, where that costs less. A
+// small node of primitives that lie together stays one leaf.
+TEST(Bvh, TheWallsOfARoomGetALeafEachAndCompactPrimitivesShareOne) {
+    auto leaf_sizes = [](const std::vector<Bounds3>& boxes) {
+        const Bvh bvh(boxes);
+        std::vector<uint32_t> sizes;
+        for (const BvhNode& n : bvh.nodes())
+            for (int i = 0; i < kBvhWidth; ++i) {
+                const Bounds3 box = n.child_bounds(i);
+                if (box.min.x <= box.max.x && BvhNode::is_leaf(n.child[i]))
+                    sizes.push_back(BvhNode::leaf_count(n.child[i]));
+            }
+        std::sort(sizes.begin(), sizes.end());
+        return sizes;
+    };
+    // A room 1 wide, 2 deep and 2 high: the walls' boxes have areas 4 and 4, their union 16, so
+    // two leaves cost 1 + (4 C(2) + 4 C(2)) / 16 = 1.75, less than C(4) = 2. (In a cube the two
+    // are equal, and the leaf stays.)
+    const Bounds3 floor{Vec3(0, 0, 0), Vec3(1, 0, 2)}, back{Vec3(0, 0, 2), Vec3(1, 2, 2)};
+    EXPECT_EQ(leaf_sizes({floor, floor, back, back}), (std::vector<uint32_t>{2, 2}));
+    // Four small boxes side by side in a row: one leaf.
+    std::vector<Bounds3> row;
+    for (int i = 0; i < 4; ++i)
+        row.push_back({Vec3(0.1f * i, 0, 0), Vec3(0.1f * i + 0.1f, 0.1f, 0.1f)});
+    EXPECT_EQ(leaf_sizes(row), (std::vector<uint32_t>{4}));
 }
 
 TEST(Bvh, ManyIdenticalPrimitivesBuildAndTraverse) {
