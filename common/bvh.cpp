@@ -216,14 +216,17 @@ Bvh::Bvh(std::span<const Bounds3> boxes) {
         }
 
         // Up to kMaxLeafSize primitives make a leaf, tested together, four at once (Scene), for
-        // about the cost of one test; unless a split costs less still (large primitives whose
-        // boxes together span far more than each does: the walls of a room; docs/performance.md,
-        // design item 13).
-        if (count <= static_cast<uint32_t>(kMaxLeafSize) && !(best.cost < leaf_cost(count)))
+        // about the cost of one test; unless the heuristic's split costs less still (large
+        // primitives whose boxes together span far more than each does: the walls of a room;
+        // docs/performance.md, design item 13). Never a median split: that is no saving.
+        const bool sah_split =
+            best.axis >= 0 && task.depth < static_cast<uint32_t>(kMedianSplitDepth);
+        if (count <= static_cast<uint32_t>(kMaxLeafSize) &&
+            !(sah_split && best.cost < leaf_cost(count)))
             continue;  // leaf
 
         uint32_t mid;
-        if (best.axis >= 0 && task.depth < static_cast<uint32_t>(kMedianSplitDepth)) {
+        if (sah_split) {
             const int axis = best.axis;
             const float lo = centroid_box.min[axis];
             BuildRef* split = std::partition(first, last, [&](const BuildRef& r) {
