@@ -215,6 +215,15 @@ inline float max_of(float a, float b) {
 inline Float4 max_of(Float4 a, Float4 b) {
     return a < b ? b : a;
 }
+inline Float4 min_of(Float4 a, Float4 b) {
+    return a < b ? a : b;
+}
+// x with its sign bit flipped where s's is set: x * sign(s), exactly.
+inline Float4 without_sign_of(Float4 x, Float4 s) {
+    using Bits4 = uint32_t __attribute__((vector_size(16)));
+    return reinterpret_cast<Float4>(reinterpret_cast<Bits4>(x) ^
+                                    (reinterpret_cast<Bits4>(s) & 0x80000000u));
+}
 inline float abs_of(float a) {
     return std::fabs(a);
 }
@@ -304,13 +313,19 @@ struct TriangleBlock {
                                               TriangleHits4& hits, unsigned& recheck) const {
         const WatertightTerms<Float4> w = watertight_terms(wr, p);
         const auto exact_zero = (w.e0 == 0.0f) | (w.e1 == 0.0f) | (w.e2 == 0.0f);
-        const auto outside = ((w.e0 < 0.0f) | (w.e1 < 0.0f) | (w.e2 < 0.0f)) &
-                             ((w.e0 > 0.0f) | (w.e1 > 0.0f) | (w.e2 > 0.0f));
+        // The scalar test's conditions, in fewer operations with the same answers: some edge
+        // function is negative and some positive exactly when their minimum is negative and
+        // their maximum positive; and t_scaled lies strictly between 0 and t_max det (on det's
+        // side of 0) exactly when, with det's sign taken off both (an exact negation), it lies
+        // strictly between 0 and t_max |det|. (A lane with a NaN has a NaN det and t_scaled,
+        // for which every comparison fails.)
+        const auto outside =
+            (min_of(min_of(w.e0, w.e1), w.e2) < 0.0f) & (max_of(max_of(w.e0, w.e1), w.e2) > 0.0f);
         const Float4 det = w.e0 + w.e1 + w.e2;
         const Float4 t_scaled = w.e0 * w.z[0] + w.e1 * w.z[1] + w.e2 * w.z[2];
         const Float4 t_det = t_max * det;
-        const auto in_range = ((det < 0.0f) & (t_scaled < 0.0f) & (t_scaled > t_det)) |
-                              ((det > 0.0f) & (t_scaled > 0.0f) & (t_scaled < t_det));
+        const Float4 t_unsigned = without_sign_of(t_scaled, det);
+        const auto in_range = (t_unsigned > 0.0f) & (t_unsigned < without_sign_of(t_det, det));
         recheck = lane_bits(exact_zero);
         const unsigned candidates = lane_bits(~exact_zero & ~outside & in_range);
         if (candidates == 0) return 0;  // the common case: finish only the lanes still in play
