@@ -6,10 +6,12 @@
 // Build: top-down, binned surface-area heuristic (Wald 2007). At each node the centroids are
 // binned along each axis; the split minimising
 //     cost = C_trav + (A_left C(N_left) + A_right C(N_right)) / A_node
-// is taken, with C(n) = ceil(n / 4) + n / 4 the cost of a leaf of n in units of one test. A node
-// of more than four primitives is always split; one of at most four is split only where that
-// costs less than its leaf, C(n): in a room, two walls in one leaf have a box the size of the
-// room, while each wall alone has a flat box that only the rays crossing it enter. A leaf's
+// is taken, with C(n) = ceil(n / 4) + n / 4 the cost of a leaf of n in units of one test and
+// C_trav = 1. A node of more than four primitives is always split, so there C_trav does not
+// change which split wins; one of at most four is split only where the best such split costs
+// less than its leaf, C(n) (and never below depth 64, where splits go by the median): in a room,
+// two walls in one leaf have a box the size of the room, while each wall alone has a flat box
+// that only the rays crossing it enter. A leaf's
 // triangles are tested together, four at once (TriangleBlock), for about the cost of one test,
 // hence the ceil(n / 4); the n / 4 keeps the leaves of small scenes tight (bvh.cpp, leaf_cost).
 // Layout: the binary tree is then collapsed into an 8-wide one (Dammertz et al., "Shallow

@@ -218,7 +218,7 @@ inline Float4 max_of(Float4 a, Float4 b) {
 inline Float4 min_of(Float4 a, Float4 b) {
     return a < b ? a : b;
 }
-// x with its sign bit flipped where s's is set: x * sign(s), exactly.
+// x negated (its sign bit flipped) in the lanes where s's sign bit is set: exact.
 inline Float4 without_sign_of(Float4 x, Float4 s) {
     using Bits4 = uint32_t __attribute__((vector_size(16)));
     return reinterpret_cast<Float4>(reinterpret_cast<Bits4>(x) ^
@@ -313,12 +313,13 @@ struct TriangleBlock {
                                               TriangleHits4& hits, unsigned& recheck) const {
         const WatertightTerms<Float4> w = watertight_terms(wr, p);
         const auto exact_zero = (w.e0 == 0.0f) | (w.e1 == 0.0f) | (w.e2 == 0.0f);
-        // The scalar test's conditions, in fewer operations with the same answers: some edge
+        // The scalar test's conditions, in fewer operations with the same candidates: some edge
         // function is negative and some positive exactly when their minimum is negative and
         // their maximum positive; and t_scaled lies strictly between 0 and t_max det (on det's
         // side of 0) exactly when, with det's sign taken off both (an exact negation), it lies
-        // strictly between 0 and t_max |det|. (A lane with a NaN has a NaN det and t_scaled,
-        // for which every comparison fails.)
+        // strictly between 0 and t_max |det|. Only where an edge function is NaN may `outside`
+        // differ (a minimum or maximum drops a NaN or keeps it, by its place), but there det is
+        // NaN too and `in_range` false: `outside` means nothing without it.
         const auto outside =
             (min_of(min_of(w.e0, w.e1), w.e2) < 0.0f) & (max_of(max_of(w.e0, w.e1), w.e2) > 0.0f);
         const Float4 det = w.e0 + w.e1 + w.e2;
