@@ -11,9 +11,9 @@
 // change which split wins; one of at most four is split only where the best such split costs
 // less than its leaf, C(n) (and never below depth 64, where splits go by the median): in a room,
 // two walls in one leaf have a box the size of the room, while each wall alone has a flat box
-// that only the rays crossing it enter. A leaf's
-// triangles are tested together, four at once (TriangleBlock), for about the cost of one test,
-// hence the ceil(n / 4); the n / 4 keeps the leaves of small scenes tight (bvh.cpp, leaf_cost).
+// that only the rays crossing it enter. A leaf's triangles are tested together, four at once
+// (TriangleBlock), for about the cost of one test, hence the ceil(n / 4); the n / 4 keeps the
+// leaves of small scenes tight (bvh.cpp, leaf_cost).
 // Layout: the binary tree is then collapsed into an 8-wide one (Dammertz et al., "Shallow
 // Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", 2008; Embree's
 // BVH8): a node holds the boxes of up to eight children side by side, the x minima of all eight,

@@ -218,9 +218,10 @@ inline Float4 max_of(Float4 a, Float4 b) {
 inline Float4 min_of(Float4 a, Float4 b) {
     return a < b ? a : b;
 }
+// A Float4's bits, for operations on the sign bit.
+using Bits4 = uint32_t __attribute__((vector_size(16)));
 // x negated (its sign bit flipped) in the lanes where s's sign bit is set: exact.
 inline Float4 without_sign_of(Float4 x, Float4 s) {
-    using Bits4 = uint32_t __attribute__((vector_size(16)));
     return reinterpret_cast<Float4>(reinterpret_cast<Bits4>(x) ^
                                     (reinterpret_cast<Bits4>(s) & 0x80000000u));
 }
@@ -228,7 +229,6 @@ inline float abs_of(float a) {
     return std::fabs(a);
 }
 inline Float4 abs_of(Float4 a) {  // clears the sign bits, as fabs does
-    using Bits4 = uint32_t __attribute__((vector_size(16)));
     return reinterpret_cast<Float4>(reinterpret_cast<Bits4>(a) & 0x7fffffffu);
 }
 // How far the computed t = t_scaled / det may lie from the true distance, at most: a hit is

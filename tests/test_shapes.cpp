@@ -187,6 +187,7 @@ TEST(Triangle, ANaNLaneOfABlockIsNeverHitNorRechecked) {
                         {Vec3(0, 0, 5), Vec3(0, 0, -1)},
                         {Vec3(3, 0, 0), Vec3(-1, 0, 0)},
                         {Vec3(0, 0, 0), Vec3(1, 1, 1)}};
+    int lane0_hits = 0;
     for (const Ray& ray : rays) {
         const WatertightRay wr(ray);
         TriangleHits4 th;
@@ -197,7 +198,9 @@ TEST(Triangle, ANaNLaneOfABlockIsNeverHitNorRechecked) {
         ShapeHit h;
         EXPECT_EQ((mask & 1u) != 0, intersect_triangle(wr, Vec3(-1, -1, 2), Vec3(1, -1, 2),
                                                        Vec3(0, 1, 2), ray.t_max, h));
+        lane0_hits += static_cast<int>(mask & 1u);
     }
+    EXPECT_EQ(lane0_hits, 2);  // the rays along z from both sides; the one ending at 1 falls short
 }
 
 TEST(Triangle, FourAtOnceGiveTheSingleTestsBitsExactly) {
