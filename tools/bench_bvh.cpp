@@ -3,10 +3,13 @@
 // prints figures and asserts nothing about them.
 //
 //   build/bin/bench_bvh [--quick] [--csv FILE] [--rays N] [--scene NAME]... [--set NAME]...
+//                       [--query closest|any] [--embree-robust]
 //
 // --scene and --set (each may repeat) keep only the named scenes (cornell_box, sphere_10092,
 // sphere_99372, sphere_1002252) and measurements (the ray sets primary, shadow, diffuse and
-// random; build; render, lesson 4 on the Cornell box): a few rows at a time, for profiling.
+// random; build; render, lesson 4 on the Cornell box), and --query only one kind of ray query:
+// a few rows at a time, for profiling. --embree-robust builds Embree's scenes with
+// RTC_SCENE_FLAG_ROBUST, its watertight mode (ours always is): what watertightness costs Embree.
 //
 // Scenes: the Cornell box as triangles, and a displaced sphere generated here at about 10k, 100k
 // and 1M triangles. Ray sets: coherent primary rays, shadow rays to a light, cosine-distributed
@@ -237,12 +240,13 @@ struct EmbreeScene {
     double build_ms = 0.0;
     double bytes = 0.0;
 
-    EmbreeScene(const TriangleMesh& mesh, int build_threads) {
+    EmbreeScene(const TriangleMesh& mesh, int build_threads, bool robust) {
         const std::string config = "threads=" + std::to_string(build_threads);
         device = rtcNewDevice(config.c_str());
         rtcSetDeviceMemoryMonitorFunction(device, embree_memory_monitor, nullptr);
         g_embree_bytes = 0;
         scene = rtcNewScene(device);
+        if (robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
         RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
@@ -355,11 +359,14 @@ int run(int argc, char** argv) {
     bool quick = false;
     std::string csv;
     size_t ray_count = 0;
-    std::vector<std::string> only_scenes, only_sets;
+    std::vector<std::string> only_scenes, only_sets, only_queries;
+    bool embree_robust = false;
     const char* usage =
         "usage: bench_bvh [--quick] [--csv FILE] [--rays N] [--scene NAME]... [--set NAME]...\n"
+        "                 [--query closest|any] [--embree-robust]\n"
         "  --scene: cornell_box, sphere_10092, sphere_99372, sphere_1002252\n"
-        "  --set:   primary, shadow, diffuse, random, build, render (lesson 4, Cornell box)\n";
+        "  --set:   primary, shadow, diffuse, random, build, render (lesson 4, Cornell box)\n"
+        "  --query: closest, any (the ray sets' queries)\n";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--quick") {
@@ -378,6 +385,10 @@ int run(int argc, char** argv) {
             only_scenes.push_back(argv[++i]);
         } else if (a == "--set" && i + 1 < argc) {
             only_sets.push_back(argv[++i]);
+        } else if (a == "--embree-robust") {
+            embree_robust = true;
+        } else if (a == "--query" && i + 1 < argc) {
+            only_queries.push_back(argv[++i]);
         } else {
             std::cerr << usage;
             return a == "--help" || a == "-h" ? 0 : 2;
@@ -412,6 +423,11 @@ int run(int argc, char** argv) {
             std::cerr << "bench_bvh: error: --set: nothing named '" << name << "'\n" << usage;
             return 2;
         }
+    for (const std::string& name : only_queries)
+        if (name != "closest" && name != "any") {
+            std::cerr << "bench_bvh: error: --query: nothing named '" << name << "'\n" << usage;
+            return 2;
+        }
 
     // Meshes are made only for the rows asked for: a build, or a ray set.
     const bool any_ray_set = wanted(only_sets, "primary") || wanted(only_sets, "shadow") ||
@@ -424,8 +440,12 @@ int run(int argc, char** argv) {
     }
 
 #ifdef LESSONS_HAVE_EMBREE
-    std::printf("Embree %s, ", RTC_VERSION_STRING);
+    std::printf("Embree %s%s, ", RTC_VERSION_STRING, embree_robust ? " (robust)" : "");
 #else
+    if (embree_robust) {
+        std::cerr << "bench_bvh: error: --embree-robust: Embree is not built in\n";
+        return 2;
+    }
     std::printf("Embree: not built in (install libembree-dev and re-run cmake), ");
 #endif
     std::printf("%d hardware threads, %zu rays per set%s\n\n", all_threads, ray_count,
@@ -456,11 +476,12 @@ int run(int argc, char** argv) {
             per_tri = static_cast<double>(scene.geometry_bytes()) / mesh.triangles.size();
             bvh_per_tri = static_cast<double>(scene.bvh().memory_bytes()) / mesh.triangles.size();
 #ifdef LESSONS_HAVE_EMBREE
-            const EmbreeScene e(mesh, 1);
+            const EmbreeScene e(mesh, 1, embree_robust);
             embree_ms = std::min(embree_ms, e.build_ms);
             embree_per_tri = e.bytes / mesh.triangles.size();
             if (all_threads > 1)
-                embree_2_ms = std::min(embree_2_ms, EmbreeScene(mesh, all_threads).build_ms);
+                embree_2_ms =
+                    std::min(embree_2_ms, EmbreeScene(mesh, all_threads, embree_robust).build_ms);
 #endif
         }
         Row r{mesh.name,
@@ -489,11 +510,12 @@ int run(int argc, char** argv) {
         const Scene scene = suite_scene(mesh);
         const std::vector<RaySet> sets = make_ray_sets(scene, mesh, ray_count);
 #ifdef LESSONS_HAVE_EMBREE
-        const EmbreeScene embree(mesh, all_threads);
+        const EmbreeScene embree(mesh, all_threads, embree_robust);
 #endif
         for (const RaySet& set : sets) {
             if (!wanted(only_sets, set.name)) continue;
             for (const std::string query : {"closest", "any"}) {
+                if (!wanted(only_queries, query)) continue;
                 for (int threads : thread_counts) {
                     const bool closest = query == "closest";
                     auto trace_ours = [&](size_t begin, size_t end) {
