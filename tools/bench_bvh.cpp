@@ -9,7 +9,9 @@
 // sphere_99372, sphere_1002252) and measurements (the ray sets primary, shadow, diffuse and
 // random; build; render, lesson 4 on the Cornell box), and --query only one kind of ray query:
 // a few rows at a time, for profiling. --embree-robust builds Embree's scenes with
-// RTC_SCENE_FLAG_ROBUST, its watertight mode (ours always is): what watertightness costs Embree.
+// RTC_SCENE_FLAG_ROBUST: robust traversal and no optimisation that reduces arithmetic accuracy,
+// Embree's mode against rays slipping between primitives that share an edge, which ours always
+// guards against (docs/performance.md).
 //
 // Scenes: the Cornell box as triangles, and a displaced sphere generated here at about 10k, 100k
 // and 1M triangles. Ray sets: coherent primary rays, shadow rays to a light, cosine-distributed
