@@ -122,6 +122,7 @@ RenderResult collect(std::vector<Film>& films, const RenderStats& stats) {
     r.inf_samples = film.inf_samples();
     r.firefly_pixels = film.firefly_pixels();
     r.clamped_samples = film.clamped_samples();
+    r.splat_bytes = stats.splat_bytes;
     for (size_t k = 1; k < films.size(); ++k) r.layers.push_back(films[k].mean());
     return r;
 }
@@ -133,6 +134,8 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
     std::vector<Film> films(1 + model.layer_names.size(), Film(scene.width, scene.height));
     if (settings.clamp > 0.0f) films[0].set_clamp(settings.clamp);
     auto pass = [&](int begin, int end, const RenderSettings& s) {
+        if (model.splatting)
+            return render_splatting(scene.camera, films, s, model.splatting, begin, end);
         if (model.layer_names.empty())
             return render(scene.camera, films[0], s, model.radiance, begin, end);
         return render_layers(scene.camera, films, s, model.layered, begin, end);
@@ -158,6 +161,7 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
             const RenderStats s = pass(done, target, batch_settings);
             total.seconds += s.seconds;
             total.rays += s.rays;
+            total.splat_bytes = std::max(total.splat_bytes, s.splat_bytes);
             if (s.stopped) {
                 interrupted = true;
                 break;
@@ -177,6 +181,7 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
             const RenderStats s = pass(done, target, quiet);
             total.seconds += s.seconds;
             total.rays += s.rays;
+            total.splat_bytes = std::max(total.splat_bytes, s.splat_bytes);
             if (s.stopped) {
                 interrupted = true;
                 break;
@@ -305,6 +310,8 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
                                           : std::to_string(spp) + " spp")
                   << ", " << resolve_thread_count(o.threads) << " threads\n";
         for (const std::string& note : model.notes) std::cerr << "  note: " << note << "\n";
+        for (const std::string& why : model.biased_because)
+            std::cerr << "  biased: " << why << "\n";
     }
 
     RenderSettings settings;
@@ -397,7 +404,11 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         report.set("height", scene.height);
         report.set("spp", spp_taken);
         report.set("firefly_pixels", r.firefly_pixels);
-        report.set("biased", o.clamp > 0.0f || scene.naive.any());
+        std::vector<std::string> bias = model.biased_because;
+        if (o.clamp > 0.0f) bias.push_back("--clamp: bright samples are scaled down");
+        if (scene.naive.any()) bias.push_back("--naive: the naive methods are wrong on purpose");
+        report.set("biased", !bias.empty());
+        report.set("bias", bias);
         if (o.clamp > 0.0f) {
             report.set("clamp", static_cast<double>(o.clamp));
             report.set("clamped_samples", r.clamped_samples);
@@ -428,6 +439,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         }
         report.set("notes", model.notes);
         if (!layer_shares.empty()) report.set("layers", layer_shares);
+        if (model.splatting) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
         try {
             report.write(o.report);
         } catch (const std::exception& e) {

@@ -23,9 +23,16 @@ struct Model {
     // image <out>_<name> with its share of the total printed (used when layer_names is set).
     LayeredRadianceFn layered;
     std::vector<std::string> layer_names;
+    // Optional: a model that also adds light to other pixels than its sample's (lesson 5's light
+    // paths). When set, it is used instead of radiance and layered (render_splatting).
+    SplattingRadianceFn splatting;
     // One line per thing the model approximates or ignores in this scene, printed before the
     // render and stored in the report.
     std::vector<std::string> notes;
+    // Why the model's answer differs from the rendering equation's in this scene, however many
+    // samples it takes (its bias); empty when it converges to the true image. Printed, and in
+    // the report as "biased" and "bias".
+    std::vector<std::string> biased_because;
 };
 
 struct Lesson {
@@ -74,6 +81,7 @@ struct RenderResult {
     bool interrupted = false;  // stopped by RenderSettings::stop before the planned samples
     int firefly_pixels = 0;
     uint64_t clamped_samples = 0;
+    size_t splat_bytes = 0;  // splatting models: the most memory one pass's splats held
 };
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "microfacet.h"
 #include "optics.h"
@@ -129,8 +130,10 @@ std::optional<BsdfSample> sample(const PerfectMirror& m, const Vec3& wo, const V
 }
 
 // ---- Smooth dielectric: reflect with probability F (weight F), refract with probability
-// 1 - F (weight (1 - F) / eta^2: radiance over n^2 is what crosses the interface). ----
-std::optional<BsdfSample> sample(const SmoothDielectric& d, const Vec3& wo, const Vec2& u) {
+// 1 - F (weight (1 - F) / eta^2: radiance over n^2 is what crosses the interface; (1 - F) alone
+// for importance, see Transport). ----
+std::optional<BsdfSample> sample(const SmoothDielectric& d, const Vec3& wo, const Vec2& u,
+                                 Transport transport) {
     if (wo.z == 0.0f) return std::nullopt;
     const bool entering = wo.z > 0.0f;
     const float eta = entering ? d.eta : 1.0f / d.eta;  // n on wi's side / n on wo's side
@@ -142,7 +145,9 @@ std::optional<BsdfSample> sample(const SmoothDielectric& d, const Vec3& wo, cons
     }
     const std::optional<Vec3> wt = refract(wo, n, eta);
     if (!wt || wt->z == 0.0f) return std::nullopt;
-    return BsdfSample{*wt, Color((1.0f - F) / (eta * eta) / std::fabs(wt->z)), 1.0f - F, true};
+    const float scale = transport == Transport::Radiance ? 1.0f / (eta * eta) : 1.0f;
+    return BsdfSample{*wt, d.transmittance * ((1.0f - F) * scale / std::fabs(wt->z)), 1.0f - F,
+                      true};
 }
 
 // Delta lobes have no density to evaluate: any given pair (wo, wi) has measure zero.
@@ -167,7 +172,7 @@ BsdfLobe lobe_of(const Material& m, const Vec2& uv) {
                                     blinn_phong_exponent(m.roughness)};
         case MaterialType::Conductor: return GgxConductor{m.specular, m.roughness};
         case MaterialType::Mirror: return PerfectMirror{m.reflectance};
-        case MaterialType::Glass: return SmoothDielectric{m.ior};
+        case MaterialType::Glass: return SmoothDielectric{m.ior, m.transmittance};
     }
     return Lambertian{Color(0.0f)};
 }
@@ -211,10 +216,16 @@ float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
     return std::visit([&](const auto& lobe) { return lessons::pdf(lobe, lo, li); }, lobe_);
 }
 
-std::optional<BsdfSample> Bsdf::sample(const Vec3& wo, const Vec2& u) const {
+std::optional<BsdfSample> Bsdf::sample(const Vec3& wo, const Vec2& u, Transport transport) const {
     const Vec3 lo = frame_.to_local(wo);
-    std::optional<BsdfSample> s =
-        std::visit([&](const auto& lobe) { return lessons::sample(lobe, lo, u); }, lobe_);
+    std::optional<BsdfSample> s = std::visit(
+        [&](const auto& lobe) {
+            if constexpr (std::is_same_v<std::decay_t<decltype(lobe)>, SmoothDielectric>)
+                return lessons::sample(lobe, lo, u, transport);
+            else
+                return lessons::sample(lobe, lo, u);
+        },
+        lobe_);
     if (!s) return std::nullopt;
     s->wi = glm::normalize(frame_.to_world(s->wi));
     // A reflected direction must stay on wo's geometric side, a refracted one must cross.

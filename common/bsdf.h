@@ -1,4 +1,4 @@
-// BSDFs: how a surface scatters light, f(p, wo, wi), for lessons 3 and 4.
+// BSDFs: how a surface scatters light, f(p, wo, wi), for lessons 3 to 5.
 //
 // The contract (STYLE.md), which every estimator relies on:
 //   eval(wo, wi)   returns f alone, without the cosine, in 1/sr;
@@ -25,6 +25,13 @@
 namespace lessons {
 
 struct SurfaceInteraction;
+
+// What a path carries through a refraction. Radiance (paths from the camera): crossing into a
+// denser medium packs the same light into a narrower cone, so radiance scales by
+// (n_to / n_from)^2 and the sampled weight is (1 - F) / eta^2. Importance (paths from the lights,
+// lesson 5) is the adjoint quantity: their throughput is flux-like and carries (1 - F) alone.
+// Only smooth glass tells them apart; every reflection is reciprocal.
+enum class Transport { Radiance, Importance };
 
 struct BsdfSample {
     Vec3 wi;
@@ -67,6 +74,7 @@ struct PerfectMirror {
 
 struct SmoothDielectric {
     float eta;  // n_inside / n_outside; the local +z side is outside
+    Color transmittance{1.0f};  // kept of the light that crosses (a tint: coloured glass)
 };
 
 using BsdfLobe =
@@ -82,7 +90,8 @@ public:
 
     Color eval(const Vec3& wo, const Vec3& wi) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
-    std::optional<BsdfSample> sample(const Vec3& wo, const Vec2& u) const;
+    std::optional<BsdfSample> sample(const Vec3& wo, const Vec2& u,
+                                     Transport transport = Transport::Radiance) const;
 
     bool is_delta() const;
     // |cos(theta)| of a world direction against the shading normal.

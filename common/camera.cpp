@@ -23,4 +23,25 @@ Ray Camera::generate_ray(float x, float y, int width, int height) const {
     return Ray{position_, glm::normalize(d), kInfinity};
 }
 
+std::optional<Vec2> Camera::raster_position(const Vec3& dir, int width, int height) const {
+    const float cos_theta = glm::dot(dir, forward_);
+    if (!(cos_theta > 0.0f)) return std::nullopt;
+    // The point where the ray meets the image plane at distance 1, in generate_ray's units.
+    const Vec3 on_plane = dir / cos_theta;
+    const float ndc_x = glm::dot(on_plane, right_) / (tan_half_fov_ * aspect_);
+    const float ndc_y = glm::dot(on_plane, up_) / tan_half_fov_;
+    const float x = 0.5f * (ndc_x + 1.0f) * static_cast<float>(width);
+    const float y = 0.5f * (1.0f - ndc_y) * static_cast<float>(height);
+    if (!(x >= 0.0f && x < static_cast<float>(width) && y >= 0.0f &&
+          y < static_cast<float>(height)))
+        return std::nullopt;
+    return Vec2(x, y);
+}
+
+float Camera::importance(const Vec3& dir) const {
+    const float cos_theta = glm::dot(dir, forward_);
+    if (!(cos_theta > 0.0f)) return 0.0f;
+    return 1.0f / (image_plane_area() * cos_theta * cos_theta * cos_theta);
+}
+
 }  // namespace lessons

@@ -30,7 +30,9 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
     for (uint32_t i = 0; i < scene.point_lights().size(); ++i) {
         // An isotropic point source of intensity I sends 4 pi I.
         const float p = 4.0f * kPi * luminance(scene.point_lights()[i].intensity);
-        if (p <= 0.0f) continue;
+        light_of_point_.push_back(SIZE_MAX);
+        if (!(p > 0.0f) || !std::isfinite(p)) continue;
+        light_of_point_.back() = lights_.size();
         lights_.push_back({Kind::Point, i});
         power.push_back(p);
         has_point_lights_ = true;
@@ -49,8 +51,12 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         power.push_back(p);
     }
     if (!is_black(scene.background)) {
-        // A uniform environment of radiance L falls on the scene's bounding sphere (radius R)
-        // as if through a disk of area pi R^2 from every direction: power pi L pi R^2.
+        // A uniform environment of radiance L sends, from every direction, the radiance L
+        // through the disk of area pi R^2 that the scene's bounding sphere (radius R) shows
+        // that direction: pi R^2 L per steradian, over 4 pi steradians, power 4 pi^2 R^2 L.
+        // Only the ratios of the powers matter (they set how often each light is chosen, never
+        // the image's mean): the weight used is a quarter of that power, pi^2 R^2 L, so the sky
+        // is chosen less often than its power alone would say.
         const Bounds3 b = scene.bounds();
         const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
         environment_ = lights_.size();
@@ -234,7 +240,19 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
     if (lights_.empty()) return std::nullopt;
     const size_t light = choose_light(u_choose);
     const float choose = choice_probability(light);
-    if (lights_[light].kind != Kind::Area || !(choose > 0.0f)) return std::nullopt;
+    if (!(choose > 0.0f)) return std::nullopt;
+    if (lights_[light].kind == Kind::Point) {
+        const PointLight& l = scene_.point_lights()[lights_[light].index];
+        const Vec3 w = sample_uniform_sphere(u_dir);
+        return EmissionSample{Ray{l.position, w, kInfinity},
+                              l.position,
+                              Vec3(0.0f),
+                              l.intensity,
+                              choose,
+                              uniform_sphere_pdf(),
+                              std::nullopt};
+    }
+    if (lights_[light].kind != Kind::Area) return std::nullopt;  // the environment
     const AreaLight& area_light = scene_.area_lights()[lights_[light].index];
     SurfacePoint on = point_by_area(lights_[light].index, u_point);
     // A two-sided light leaves by either side, half the time each: u_dir.x picks the side, then
@@ -259,7 +277,13 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
                           area_light.radiance,
                           choose / area_light.area,
                           side * cosine_hemisphere_pdf(local.z),
-                          area_light.prim};
+                          area_light.prim,
+                          on.error};
+}
+
+LightSampler::EmissionPdf LightSampler::point_emission_pdf(uint32_t index) const {
+    if (index >= light_of_point_.size() || light_of_point_[index] == SIZE_MAX) return {};
+    return {choice_probability(light_of_point_[index]), uniform_sphere_pdf()};
 }
 
 LightSampler::EmissionPdf LightSampler::emission_pdf(PrimRef light, const Vec3& n_q,

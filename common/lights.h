@@ -1,4 +1,4 @@
-// Light sampling for lessons 3 and 4: choose a light, then a point on it, and say how likely
+// Light sampling for lessons 3 to 5: choose a light, then a point on it, and say how likely
 // that choice was, per unit solid angle as seen from the shading point.
 //
 // Lights: point lights (intensity I, W/sr), emissive surfaces (radiance L_e; quads, triangles
@@ -55,18 +55,23 @@ struct LightSample {
     Vec3 point{0.0f}, normal{0.0f};  // on an area light: the sampled point and its unit normal
 };
 
-// Light leaving an emitter, for light paths (lesson 4's light-path connections): a light chosen
-// by power as sample() chooses, a point uniform by area on it, and a direction distributed as
-// cos(theta) about the emitting side's normal (either side of a two-sided light, with
-// probability 1/2 each). Point lights and the environment give none.
+// Light leaving a light, for light paths (lesson 5): a light chosen by power as sample() chooses,
+// then
+//   an area light: a point uniform by area on it, and a direction distributed as cos(theta)
+//     about the emitting side's normal (either side of a two-sided light, half the time each);
+//   a point light: its position, and a direction uniform on the sphere.
+// The environment starts none (lesson 5 says why).
 struct EmissionSample {
-    Ray ray;         // leaving the light's surface
+    Ray ray;         // leaving the light
     Vec3 point;      // where it leaves
-    Vec3 normal;     // unit geometric normal there, on the side the ray leaves
-    Color radiance;  // L_e along the ray
-    float pdf_area;  // density of the point: choice probability / area, per m^2
+    Vec3 normal;     // unit geometric normal there, on the side the ray leaves (zero: point light)
+    Color radiance;  // L_e along the ray, W/(sr m^2); for a point light its intensity I, W/sr
+    float pdf_area;  // density of the point: choice probability / area, per m^2 (point light:
+                     // the choice probability alone, a discrete choice of a delta position)
     float pdf_dir;   // density of the direction, per sr
-    PrimRef emitter;
+    std::optional<PrimRef> emitter;  // the emissive primitive; none for a point light
+    Vec3 error{0.0f};                // bound on the rounding error of `point` (for rays to it)
+    bool is_delta() const { return !emitter; }
 };
 
 class LightSampler {
@@ -90,7 +95,7 @@ public:
     // The same for a direction that escapes to the uniform environment.
     float environment_pdf() const;
 
-    // A ray of light leaving an emitter, from five uniform numbers (see EmissionSample).
+    // A ray of light leaving a light, from five uniform numbers (see EmissionSample).
     std::optional<EmissionSample> sample_emission(float u_choose, const Vec2& u_point,
                                                   const Vec2& u_dir) const;
     // The densities sample_emission() has of leaving the emitter `light` from its point q, where
@@ -99,6 +104,9 @@ public:
         float area = 0.0f, dir = 0.0f;
     };
     EmissionPdf emission_pdf(PrimRef light, const Vec3& n_q, const Vec3& w) const;
+    // The same for point light `index` (into scene.point_lights()): its choice probability, and
+    // the uniform sphere's 1 / (4 pi) for any direction.
+    EmissionPdf point_emission_pdf(uint32_t index) const;
 
 private:
     enum class Kind { Point, Area, Environment };
@@ -120,6 +128,7 @@ private:
     std::vector<Entry> lights_;
     std::vector<float> cdf_;  // cumulative choice probabilities, cdf_.back() == 1
     std::unordered_map<uint32_t, size_t> light_of_primitive_;
+    std::vector<size_t> light_of_point_;  // per point light: its index in lights_, or SIZE_MAX
     // Per area light: its rectangle, for those sampled by solid angle (AreaLight::rectangle).
     std::vector<std::optional<Rectangle>> rectangles_;
     std::optional<size_t> environment_;

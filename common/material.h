@@ -53,6 +53,7 @@ struct Material {
     float roughness = 0.5f;   // microfacet roughness alpha in (0, 1] (Glossy, Conductor)
     Color reflectance{1.0f};  // mirror reflectance (Mirror)
     float ior = 1.5f;         // index of refraction, inside over outside (Glass)
+    Color transmittance{1.0f};  // fraction of the light crossing the surface that is kept (Glass)
     Color emission{0.0f};     // emitted radiance, W / (sr m^2)
     bool two_sided = false;   // emits from both sides (else only along the geometric normal)
 

@@ -15,8 +15,83 @@
 namespace lessons {
 
 namespace {
+
 constexpr int kTileSize = 16;
+
+// The image's tiles, row by row.
+struct Tiles {
+    int width, height, across, count;
+    Tiles(int w, int h)
+        : width(w),
+          height(h),
+          across((w + kTileSize - 1) / kTileSize),
+          count(across * ((h + kTileSize - 1) / kTileSize)) {}
+    // Calls pixel(x, y, index) for every pixel of tile `tile`; returns the number of pixels.
+    template <class PixelFn>
+    uint64_t for_each_pixel(int tile, PixelFn&& pixel) const {
+        const int x0 = (tile % across) * kTileSize, y0 = (tile / across) * kTileSize;
+        const int x1 = std::min(x0 + kTileSize, width), y1 = std::min(y0 + kTileSize, height);
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) pixel(x, y, static_cast<size_t>(y) * width + x);
+        return static_cast<uint64_t>(x1 - x0) * (y1 - y0);
+    }
+};
+
+// Runs work(tile) for every tile on the worker threads, which take tiles in turn until none is
+// left or settings.stop is set. Rethrows the first exception a worker met, after the join.
+struct TileRun {
+    uint64_t rays = 0;
+    bool stopped = false;
+};
+template <class WorkFn>
+TileRun run_tiles(int tile_count, const RenderSettings& settings, WorkFn&& work) {
+    std::atomic<int> next_tile{0};
+    std::atomic<uint64_t> rays{0};
+    std::atomic<bool> stopped{false};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto worker = [&]() {
+        const uint64_t rays_before = rays_traced_by_this_thread();
+        try {
+            for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
+                if (settings.stop && settings.stop->load(std::memory_order_relaxed)) {
+                    stopped = true;
+                    break;
+                }
+                work(tile);
+            }
+        } catch (...) {
+            // Stop every worker and hand the exception to the caller after the join.
+            std::lock_guard lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next_tile = tile_count;
+        }
+        rays += rays_traced_by_this_thread() - rays_before;
+    };
+    const int threads = std::min(resolve_thread_count(settings.threads), std::max(1, tile_count));
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    return {rays.load(), stopped.load()};
 }
+
+// The random numbers of sample s of pixel `pixel`, and the camera ray they place in it.
+Ray camera_ray(const Camera& camera, const RenderSettings& settings, int x, int y, size_t pixel,
+               int s, int width, int height, Rng& rng) {
+    rng = settings.kronecker ? Rng::kronecker(settings.seed, pixel, s)
+                             : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
+    const float jx = settings.jitter ? rng.uniform() : 0.5f;
+    const float jy = settings.jitter ? rng.uniform() : 0.5f;
+    return camera.generate_ray(x + jx, y + jy, width, height);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
 
 int resolve_thread_count(int requested) {
     if (requested > 0) return requested;
@@ -35,74 +110,83 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
                           const RenderSettings& settings, const LayeredRadianceFn& radiance,
                           int sample_begin, int sample_end) {
     const auto start = std::chrono::steady_clock::now();
-    const int width = films[0].width(), height = films[0].height();
+    const Tiles tiles(films[0].width(), films[0].height());
     const size_t layer_count = films.size() - 1;
-    const int tiles_x = (width + kTileSize - 1) / kTileSize;
-    const int tiles_y = (height + kTileSize - 1) / kTileSize;
-    const int tile_count = tiles_x * tiles_y;
     const int samples = std::max(0, sample_end - sample_begin);
-
-    Progress own_progress("render", static_cast<uint64_t>(width) * height * samples,
+    Progress own_progress("render", static_cast<uint64_t>(tiles.width) * tiles.height * samples,
                           settings.progress && !settings.shared_progress);
     Progress& progress = settings.shared_progress ? *settings.shared_progress : own_progress;
-    std::atomic<int> next_tile{0};
-    std::atomic<uint64_t> rays{0};
 
-    std::atomic<bool> stopped{false};
-    std::exception_ptr failure;
-    std::mutex failure_mutex;
-    auto worker = [&]() {
-        const uint64_t rays_before = rays_traced_by_this_thread();
+    const TileRun run = run_tiles(tiles.count, settings, [&](int tile) {
         std::vector<Color> layers(layer_count);
-        try {
-            for (int tile = next_tile++; tile < tile_count; tile = next_tile++) {
-                if (settings.stop && settings.stop->load(std::memory_order_relaxed)) {
-                    stopped = true;
-                    break;
-                }
-                const int x0 = (tile % tiles_x) * kTileSize, y0 = (tile / tiles_x) * kTileSize;
-                const int x1 = std::min(x0 + kTileSize, width),
-                          y1 = std::min(y0 + kTileSize, height);
-                for (int y = y0; y < y1; ++y) {
-                    for (int x = x0; x < x1; ++x) {
-                        const size_t pixel = static_cast<size_t>(y) * width + x;
-                        for (int s = sample_begin; s < sample_end; ++s) {
-                            Rng rng = settings.kronecker
-                                          ? Rng::kronecker(settings.seed, pixel, s)
-                                          : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
-                            const float jx = settings.jitter ? rng.uniform() : 0.5f;
-                            const float jy = settings.jitter ? rng.uniform() : 0.5f;
-                            const Ray ray = camera.generate_ray(x + jx, y + jy, width, height);
-                            std::fill(layers.begin(), layers.end(), Color(0.0f));
-                            films[0].add_sample(pixel, radiance(ray, rng, layers));
-                            for (size_t k = 0; k < layer_count; ++k)
-                                films[1 + k].add_sample(pixel, layers[k]);
-                        }
-                    }
-                }
-                progress.advance(static_cast<uint64_t>(x1 - x0) * (y1 - y0) * samples);
+        const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
+            for (int s = sample_begin; s < sample_end; ++s) {
+                Rng rng;
+                const Ray ray =
+                    camera_ray(camera, settings, x, y, pixel, s, tiles.width, tiles.height, rng);
+                std::fill(layers.begin(), layers.end(), Color(0.0f));
+                films[0].add_sample(pixel, radiance(ray, rng, layers));
+                for (size_t k = 0; k < layer_count; ++k) films[1 + k].add_sample(pixel, layers[k]);
             }
-        } catch (...) {
-            // Stop every worker and hand the exception to the caller after the join.
-            std::lock_guard lock(failure_mutex);
-            if (!failure) failure = std::current_exception();
-            next_tile = tile_count;
-        }
-        rays += rays_traced_by_this_thread() - rays_before;
-    };
-
-    const int threads = std::min(resolve_thread_count(settings.threads), std::max(1, tile_count));
-    std::vector<std::thread> pool;
-    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
-    if (failure) std::rethrow_exception(failure);
+        });
+        progress.advance(pixels * samples);
+    });
     if (!settings.shared_progress) progress.finish();
-
     RenderStats stats;
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats.rays = rays.load();
-    stats.stopped = stopped.load();
+    stats.seconds = seconds_since(start);
+    stats.rays = run.rays;
+    stats.stopped = run.stopped;
+    return stats;
+}
+
+RenderStats render_splatting(const Camera& camera, std::span<Film> films,
+                             const RenderSettings& settings, const SplattingRadianceFn& radiance,
+                             int sample_begin, int sample_end) {
+    const auto start = std::chrono::steady_clock::now();
+    const Tiles tiles(films[0].width(), films[0].height());
+    const size_t pixel_count = static_cast<size_t>(tiles.width) * tiles.height;
+    const size_t layer_count = films.size() - 1;
+    const int samples = std::max(0, sample_end - sample_begin);
+    Progress own_progress("render", pixel_count * samples,
+                          settings.progress && !settings.shared_progress);
+    Progress& progress = settings.shared_progress ? *settings.shared_progress : own_progress;
+
+    // One pass: each pixel's own sample per film, and each tile's splats.
+    std::vector<std::vector<Color>> pass(films.size(), std::vector<Color>(pixel_count));
+    std::vector<std::vector<Splat>> tile_splats(tiles.count);
+    RenderStats stats;
+    for (int s = sample_begin; s < sample_end; ++s) {
+        const TileRun run = run_tiles(tiles.count, settings, [&](int tile) {
+            std::vector<Color> layers(layer_count);
+            std::vector<Splat>& splats = tile_splats[tile];
+            splats.clear();
+            const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
+                Rng rng;
+                const Ray ray =
+                    camera_ray(camera, settings, x, y, pixel, s, tiles.width, tiles.height, rng);
+                std::fill(layers.begin(), layers.end(), Color(0.0f));
+                pass[0][pixel] = radiance(ray, rng, layers, splats);
+                for (size_t k = 0; k < layer_count; ++k) pass[1 + k][pixel] = layers[k];
+            });
+            progress.advance(pixels);
+        });
+        stats.rays += run.rays;
+        if (run.stopped) {  // a pass with tiles missing would be biased: drop it whole
+            stats.stopped = true;
+            break;
+        }
+        size_t bytes = 0;
+        for (const std::vector<Splat>& splats : tile_splats) {  // in tile order
+            bytes += splats.capacity() * sizeof(Splat);
+            for (const Splat& splat : splats) pass[splat.film][splat.pixel] += splat.value;
+        }
+        stats.splat_bytes = std::max(stats.splat_bytes, bytes);
+        for (size_t f = 0; f < films.size(); ++f)
+            for (size_t pixel = 0; pixel < pixel_count; ++pixel)
+                films[f].add_sample(pixel, pass[f][pixel]);
+    }
+    if (!settings.shared_progress) progress.finish();
+    stats.seconds = seconds_since(start);
     return stats;
 }
 

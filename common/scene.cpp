@@ -373,4 +373,19 @@ Color Scene::emitted(const SurfaceInteraction& si) const {
     return m.emission;
 }
 
+SceneContents Scene::contents() const {
+    SceneContents c;
+    c.point_lights = !point_lights_.empty();
+    c.area_lights = !area_lights_.empty();
+    c.environment = !is_black(background);
+    auto delta = [&](uint32_t m) {
+        return materials_[m].type == MaterialType::Mirror ||
+               materials_[m].type == MaterialType::Glass;
+    };
+    for (uint32_t m : sphere_materials_) c.delta_materials |= delta(m);
+    for (uint32_t m : quad_materials_) c.delta_materials |= delta(m);
+    for (const Triangle& t : triangles_) c.delta_materials |= delta(t.material);
+    return c;
+}
+
 }  // namespace lessons

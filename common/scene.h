@@ -98,6 +98,14 @@ struct NaiveMethods {
     }
 };
 
+// What a scene holds, as far as a lesson's model cares (for its notes and its bias).
+struct SceneContents {
+    bool point_lights = false;
+    bool area_lights = false;
+    bool environment = false;      // a background of nonzero radiance
+    bool delta_materials = false;  // a mirror or glass on some shape
+};
+
 // Rays traced by the calling thread since it started: the render loop reads the difference.
 uint64_t rays_traced_by_this_thread();
 
@@ -141,6 +149,8 @@ public:
     Bounds3 bounds() const { return bvh_.bounds(); }
     // Bytes held for intersection: shapes, vertices, triangles and the BVH (not materials).
     size_t geometry_bytes() const;
+    // The kinds of lights, and whether any shape has a delta material (mirror, glass).
+    SceneContents contents() const;
 
     // ---- what is seen and how ----
     Camera camera;

@@ -245,7 +245,8 @@ const std::vector<std::pair<std::string, std::string>> kMaterialFieldOwners = {
     {"specular", "glossy and conductor materials"},
     {"roughness", "glossy and conductor materials"},
     {"reflectance", "mirror materials"},
-    {"ior", "glass materials"}};
+    {"ior", "glass materials"},
+    {"transmittance", "glass materials"}};
 
 MaterialDescription parse_material(const toml::table& t, const std::string& file,
                                    const std::string& name) {
@@ -287,7 +288,8 @@ MaterialDescription parse_material(const toml::table& t, const std::string& file
     } else if (type == "glass") {
         m.type = MaterialType::Glass;
         m.ior = static_cast<float>(r.number_in("ior", 0.0, 10.0, true, false, 1.5));
-        allowed.push_back("ior");
+        m.transmittance = r.color("transmittance", true, Color(1.0f));
+        allowed.insert(allowed.end(), {"ior", "transmittance"});
     } else {
         const std::vector<std::string> types = {"diffuse", "glossy", "conductor", "mirror",
                                                 "glass"};

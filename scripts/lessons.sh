@@ -1,18 +1,23 @@
 #!/usr/bin/env bash
 # The lessons, side by side: on a fresh Debian 12 machine, install what is needed, build, then
-# for the Cornell box with a mirror and a glass sphere and for Whitted's scene:
-#   1. render a converged global-illumination reference (cached in out/ while the scene, the
-#      renderer and the settings are unchanged);
-#   2. run the four lessons at equal time budgets, recording error against time;
-#   3. run lesson 3's five estimators, and lesson 4 without next-event estimation and with light
-#      paths;
+# for the Cornell box with a mirror and a glass sphere, Whitted's scene and Kajiya's:
+#   1. render a converged reference with the estimator that is unbiased for the scene: lesson 5
+#      where lesson 4 says it misses light or finds caustics only by chance (a point light, a
+#      mirror or glass), else lesson 4 (cached in out/ while the scene, the renderer and the
+#      settings are unchanged);
+#   2. run the five lessons at equal time budgets, recording error against time;
+#   3. run lesson 3's five estimators, lesson 4 without next-event estimation and lesson 5's
+#      light tracing alone;
 #   4. plot MSE against seconds, log-log, every run on one chart (gnuplot: SVG and PNG);
-#   5. write out/index.html: a static page (no server needed) with the images side by side, a
-#      flip/slider comparison, the error images, the chart and a table of the figures.
+#   5. estimate each run's converged error, its squared bias (MSE minus the variances of the run
+#      and of the reference), with the reasons its model gives;
+#   6. write out/index.html: a static page (no server needed) with the images side by side, a
+#      flip/slider comparison, the error images, the chart, the converged-bias table and a table
+#      of the figures.
 # Usage: scripts/lessons.sh [--quick | --thorough]
-#   default: ~256 px images, 4 s per run, well under 10 minutes on 2 cores (first run; the
-#   references are then cached); --quick: tiny images, 0.3 s per run, under a minute;
-#   --thorough: 512 px, 30 s per run.
+#   default: ~256 px images, 4 s per run, about 4 minutes on 2 cores once the references are
+#   cached (the first run renders them: about 8 minutes more); --quick: tiny images, 0.3 s per
+#   run, under a minute; --thorough: 512 px, 30 s per run.
 set -euo pipefail
 
 MODE="${1:-default}"
@@ -38,6 +43,10 @@ BIN="$BUILD/bin"
 
 # A field of one of our JSON reports (flat, one field per line).
 field() { sed -n "s/^  \"$2\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$1"; }
+# A list field of a report, as its strings joined by "; ".
+list_field() { sed -n "s/^  \"$2\": \[\(.*\)\],\{0,1\}$/\1/p" "$1" | sed 's/", "/; /g; s/^"//; s/"$//'; }
+# A field of compare's one-line JSON.
+json_number() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1"; }
 
 # Runs: name | lesson | extra flags | label on the chart and in the table.
 RUNS=(
@@ -45,47 +54,72 @@ RUNS=(
     "lesson2|02_whitted||2 Whitted"
     "lesson3|03_reflection_equation|--estimator mis|3 reflection eq. (MIS)"
     "lesson4|04_rendering_equation||4 rendering eq. (NEE+MIS)"
+    "lesson5|05_bidirectional||5 bidirectional (MIS)"
     "estimator_uniform|03_reflection_equation|--estimator uniform|3 uniform"
     "estimator_cosine|03_reflection_equation|--estimator cosine|3 cosine"
     "estimator_brdf|03_reflection_equation|--estimator brdf|3 BRDF"
     "estimator_light|03_reflection_equation|--estimator light|3 light"
     "lesson4_plain|04_rendering_equation|--plain|4 plain (no NEE)"
-    "lesson4_light_paths|04_rendering_equation|--light-paths|4 NEE+MIS and light paths"
+    "lesson5_light_tracing|05_bidirectional|--light-tracing|5 light tracing alone"
 )
+LESSONS=(lesson1 lesson2 lesson3 lesson4 lesson5)
 SCENES=("cornell_spheres|The Cornell box with a mirror and a glass sphere|$SIZE|$SIZE"
-        "whitted_1979|Whitted 1979: spheres and checkerboard|$((SIZE * 4 / 3))|$SIZE")
+        "whitted_1979|Whitted 1979: spheres and checkerboard|$((SIZE * 4 / 3))|$SIZE"
+        "kajiya_1986|Kajiya 1986: grey objects, green glass balls, a red base|$((SIZE * 4 / 3))|$SIZE")
 
 sections=""
+bias_header="<tr><th>lesson</th>"
+declare -A bias_cell
 for entry in "${SCENES[@]}"; do
     IFS='|' read -r scene title width height <<< "$entry"
     dir="$OUT/$scene"
     mkdir -p "$dir"
     size="--width $width --height $height"
 
-    # 1. The reference: lesson 4 at many samples, reused while nothing it depends on changed.
-    key="$(cat "scenes/$scene.toml" "$BIN/04_rendering_equation" | sha256sum | cut -c1-16)-$width-$height-$REFERENCE_SPP"
-    reference="$dir/reference.exr"
-    if [ -f "$reference" ] && [ "$(cat "$dir/reference.key" 2>/dev/null)" = "$key" ]; then
-        echo "lessons: $scene: reusing the reference ($REFERENCE_SPP spp)"
+    # 1. The reference, from the estimator that is unbiased for this scene: lesson 4 says in its
+    #    report whether it is biased here (point-light caustics) and whether it finds lamps'
+    #    caustics only by chance; then lesson 5 renders the reference.
+    "$BIN/04_rendering_equation" --scene "scenes/$scene.toml" --width 8 --height 8 --spp 1 \
+        --out "$dir/probe" --report "$dir/probe.json" --quiet
+    if [ "$(field "$dir/probe.json" biased)" = true ] || grep -q "lesson 5 traces them" "$dir/probe.json"; then
+        ref_lesson=05_bidirectional
+        ref_why="lesson 5, bidirectional path tracing: lesson 4 $( [ "$(field "$dir/probe.json" biased)" = true ] && echo "misses light here ($(list_field "$dir/probe.json" bias))" || echo "finds this scene's caustics only by chance")"
     else
-        echo "lessons: $scene: rendering the reference ($REFERENCE_SPP spp, ${width}x${height})"
-        "$BIN/04_rendering_equation" --scene "scenes/$scene.toml" $size --spp "$REFERENCE_SPP" \
-            --seed 1000003 --out "$dir/reference" --report "$dir/reference.json" --quiet
+        ref_lesson=04_rendering_equation
+        ref_why="lesson 4, path tracing: unbiased here (no point light, mirror or glass)"
+    fi
+    key="$(cat "scenes/$scene.toml" "$BIN/$ref_lesson" | sha256sum | cut -c1-16)-$ref_lesson-$width-$height-$REFERENCE_SPP"
+    reference="$dir/reference.exr"
+    if [ -f "$reference" ] && [ -f "$dir/reference_variance.exr" ] && [ "$(cat "$dir/reference.key" 2>/dev/null)" = "$key" ]; then
+        echo "lessons: $scene: reusing the reference ($REFERENCE_SPP spp, $ref_lesson)"
+    else
+        echo "lessons: $scene: rendering the reference ($REFERENCE_SPP spp, ${width}x${height}, $ref_lesson)"
+        "$BIN/$ref_lesson" --scene "scenes/$scene.toml" $size --spp "$REFERENCE_SPP" \
+            --seed 1000003 --out "$dir/reference" --report "$dir/reference.json" \
+            --variance "$dir/reference_variance" --quiet
         echo "$key" > "$dir/reference.key"
     fi
 
     # 2-3. Every run with the same time budget, recording error against time.
     plot_lines=""
     rows=""
+    bias_rows=""
+    bias_header+="<th>$title</th>"
     gallery=""
     options=""
     for run in "${RUNS[@]}"; do
         IFS='|' read -r name lesson flags label <<< "$run"
         "$BIN/$lesson" --scene "scenes/$scene.toml" $size $flags --time "$BUDGET" --seed 1 \
             --reference "$reference" --convergence "$dir/$name.csv" --out "$dir/$name" \
-            --report "$dir/$name.json" --quiet
-        "$BIN/compare" "$dir/$name.exr" "$reference" --out "$dir/$name" > /dev/null 2>&1
-        echo "lessons: $scene: $label: $(field "$dir/$name.json" spp) spp in $(field "$dir/$name.json" seconds) s, mse $(field "$dir/$name.json" mse)"
+            --report "$dir/$name.json" --variance "$dir/${name}_variance" --quiet
+        "$BIN/compare" "$dir/$name.exr" "$reference" --out "$dir/$name" \
+            --variance "$dir/${name}_variance.exr" \
+            --reference-variance "$dir/reference_variance.exr" > "$dir/$name.compare.json" 2> /dev/null
+        bias2="$(json_number "$dir/$name.compare.json" bias2)"
+        echo "lessons: $scene: $label: $(field "$dir/$name.json" spp) spp in $(field "$dir/$name.json" seconds) s, mse $(field "$dir/$name.json" mse), converged mse (bias^2) $bias2"
+        why="$(list_field "$dir/$name.json" bias)"
+        bias_rows+="<tr><td>$label</td><td>$bias2</td><td>$(field "$dir/$name.json" mse)</td><td class=\"why\">${why:-unbiased here}</td></tr>"
+        bias_cell["$name|$scene"]="$bias2"
         plot_lines+="'$dir/$name.csv' using 1:3 with linespoints title '$label', "
         rows+="<tr><td>$label</td><td>$(field "$dir/$name.json" seconds)</td><td>$(field "$dir/$name.json" spp)</td><td>$(field "$dir/$name.json" mrays_per_second)</td><td>$(field "$dir/$name.json" mse)</td><td>$(field "$dir/$name.json" relmse)</td><td>$(field "$dir/$name.json" efficiency)</td></tr>"
         gallery+="<figure><img src=\"$scene/$name.png\" alt=\"$label\"><figcaption>$label</figcaption></figure>"
@@ -112,7 +146,7 @@ EOF
 
     # 5. This scene's part of the page.
     lessons_row=""
-    for name in lesson1 lesson2 lesson3 lesson4; do
+    for name in "${LESSONS[@]}"; do
         lessons_row+="<figure><img src=\"$scene/$name.png\" alt=\"$name\"><figcaption>$name</figcaption></figure>"
     done
     errors=""
@@ -123,8 +157,9 @@ EOF
     sections+="
 <section>
 <h2>$title</h2>
-<h3>The four lessons, ${BUDGET} s each</h3>
+<h3>The five lessons, ${BUDGET} s each</h3>
 <div class=\"row\">$lessons_row<figure><img src=\"$scene/reference.png\" alt=\"reference\"><figcaption>reference ($REFERENCE_SPP spp)</figcaption></figure></div>
+<p>The reference: $ref_why; $REFERENCE_SPP samples per pixel, another seed than the runs.</p>
 <h3>Compare any two</h3>
 <div class=\"compare\" data-scene=\"$scene\">
 <select class=\"left\">$options</select> <select class=\"right\">$options</select>
@@ -135,11 +170,27 @@ EOF
 <div class=\"row\">$errors</div>
 <h3>Error against time</h3>
 <img class=\"plot\" src=\"$scene/convergence.svg\" alt=\"MSE against seconds\">
+<h3>Converged error: what more time cannot fix</h3>
+<p>MSE at the budget minus the variances of the run and of the reference (both measured per pixel):
+the squared bias, the MSE each run would converge to. Near 0 (within noise, either sign) for an
+unbiased estimator; the model's own reasons beside it.</p>
+<table class=\"bias\"><tr><th>run</th><th>converged MSE (bias&sup2;)</th><th>MSE at ${BUDGET} s</th><th>why (the model's report)</th></tr>$bias_rows</table>
 <h3>Figures</h3>
 <table><tr><th>run</th><th>seconds</th><th>spp</th><th>Mrays/s</th><th>MSE</th><th>relMSE</th><th>efficiency 1/(MSE s)</th></tr>$rows</table>
 <h3>All runs</h3>
 <div class=\"row\">$gallery</div>
 </section>"
+done
+
+# The converged-bias table over every scene: one row per lesson.
+bias_table="$bias_header</tr>"
+for name in "${LESSONS[@]}"; do
+    bias_table+="<tr><td>$name</td>"
+    for entry in "${SCENES[@]}"; do
+        IFS='|' read -r scene _ <<< "$entry"
+        bias_table+="<td>${bias_cell["$name|$scene"]}</td>"
+    done
+    bias_table+="</tr>"
 done
 
 cat > "$OUT/index.html" <<EOF
@@ -153,6 +204,7 @@ figure { margin: 0; } figure img { width: 256px; display: block; } figcaption { 
 .stack img { width: 512px; display: block; } .stack .over { position: absolute; top: 0; left: 0; }
 .plot { max-width: 960px; width: 100%; }
 table { border-collapse: collapse; } td, th { border: 1px solid #aaa; padding: 2px 8px; text-align: right; }
+td.why { text-align: left; font-size: 0.85em; }
 </style></head>
 <body>
 <h1>Illumination models, lesson by lesson</h1>
@@ -161,6 +213,11 @@ measured against a converged global-illumination reference it did not produce. U
 estimators fall on a line of slope -1 in the log-log chart (MSE proportional to 1/time); ray casting and
 Whitted's model flatten at their bias: they converge, but to a different image.
 Generated by <code>scripts/lessons.sh $MODE</code> on $(date -u +%Y-%m-%d).</p>
+<h2>Converged error of each lesson (squared bias, against the unbiased reference)</h2>
+<p>"Whitted is wrong" as a number: the MSE each lesson converges to, however long it runs. Each
+scene's section below says which estimator rendered its reference and why, and each lesson's
+reasons.</p>
+<table>$bias_table</table>
 $sections
 <script>
 for (const box of document.querySelectorAll('.compare')) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "app.h"
+#include "bidirectional.h"
 #include "ray_casting.h"
 #include "reflection_equation.h"
 #include "rendering_equation.h"
@@ -20,6 +21,8 @@ TEST(AllScenes, EveryLessonRendersEverySceneWithoutNaNOrInf) {
         ++scenes;
         const Scene scene = load_scene(entry.path().string(), {40, 30});
         const LightSampler lights(scene);
+        BidirOptions light_tracing;
+        light_tracing.light_tracing = true;
         const std::vector<std::pair<std::string, Model>> models = {
             {"01", make_ray_casting_model(scene, {scene.background})},
             {"02", make_whitted_model(scene, {})},
@@ -28,7 +31,8 @@ TEST(AllScenes, EveryLessonRendersEverySceneWithoutNaNOrInf) {
              make_reflection_model(scene, lights, {Estimator::Uniform, MisHeuristic::Power})},
             {"04", make_path_tracing_model(scene, lights, {})},
             {"04 plain", make_path_tracing_model(scene, lights, {false, 0, 3, 0})},
-            {"04 light paths", make_path_tracing_model(scene, lights, {true, 0, 3, 0, true})},
+            {"05", make_bidirectional_model(scene, lights, {})},
+            {"05 light tracing", make_bidirectional_model(scene, lights, light_tracing)},
         };
         for (const auto& [name, model] : models) {
             RenderSettings settings;

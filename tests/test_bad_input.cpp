@@ -19,7 +19,7 @@ namespace {
 const std::string kSource = LESSONS_SOURCE_DIR;
 const std::string kBin = LESSONS_BIN_DIR;
 const std::vector<std::string> kLessons = {"01_ray_casting", "02_whitted", "03_reflection_equation",
-                                           "04_rendering_equation"};
+                                           "04_rendering_equation", "05_bidirectional"};
 
 struct Result {
     int exit_code;

@@ -76,7 +76,8 @@ TEST_P(LessonOnScene, RendersWritesImagesAndAReportWithNoNaN) {
 
 INSTANTIATE_TEST_SUITE_P(
     ShippedScenes, LessonOnScene,
-    ::testing::Combine(::testing::Values("01_ray_casting", "02_whitted", "03_reflection_equation"),
+    ::testing::Combine(::testing::Values("01_ray_casting", "02_whitted", "03_reflection_equation",
+                                         "04_rendering_equation", "05_bidirectional"),
                        ::testing::Values("cornell_box", "whitted_1979", "cornell_spheres",
                                          "veach_mis", "quad_light_plane")));
 
@@ -110,27 +111,58 @@ TEST(Cli, ReflectionEquationFlagsAreCheckedAndDocumented) {
         EXPECT_NE(help.output.find(word), std::string::npos) << word;
 }
 
-TEST(Cli, RenderingEquationSaysWhenLightPathsAreOnOrUnused) {
-    const fs::path dir = fresh_dir("light_paths");
+TEST(Cli, PathTracingSaysWhatItCannotRenderAndPointsToLessonFive) {
+    const fs::path dir = fresh_dir("lesson4_notes");
     const std::string lesson = kBin + "/04_rendering_equation --width 16 --height 16 --spp 2 ";
-    const RunResult on =
-        run(lesson + "--light-paths --scene " + kSource + "/scenes/cornell_box_rtiow.toml --out " +
-            (dir / "on").string() + " --report " + (dir / "on.json").string());
-    ASSERT_EQ(on.exit_code, 0) << on.output;
-    EXPECT_NE(read_file(dir / "on.json").find("a light path of one segment joined to every vertex"),
-              std::string::npos);
-    const RunResult plain = run(lesson + "--light-paths --plain --scene " + kSource +
-                                "/scenes/cornell_box.toml --out " + (dir / "plain").string());
-    EXPECT_EQ(plain.exit_code, 0) << plain.output;
-    EXPECT_NE(plain.output.find("no light paths: they are weighed against next-event estimation"),
+    const RunResult whitted =
+        run(lesson + "--scene " + kSource + "/scenes/whitted_1979.toml --out " +
+            (dir / "w").string() + " --report " + (dir / "w.json").string());
+    ASSERT_EQ(whitted.exit_code, 0) << whitted.output;
+    const std::string report = read_file(dir / "w.json");
+    EXPECT_NE(report.find("\"biased\": true"), std::string::npos) << report;
+    EXPECT_NE(report.find("point-light caustics are missing"), std::string::npos) << report;
+    EXPECT_NE(report.find("lesson 5"), std::string::npos) << report;
+    const RunResult box = run(lesson + "--scene " + kSource + "/scenes/cornell_box.toml --out " +
+                              (dir / "c").string() + " --report " + (dir / "c.json").string());
+    ASSERT_EQ(box.exit_code, 0) << box.output;
+    EXPECT_NE(read_file(dir / "c.json").find("\"biased\": false"), std::string::npos);
+    // The bidirectional extension has left lesson 4.
+    EXPECT_EQ(run(lesson + "--light-paths").exit_code, 2);
+}
+
+TEST(Cli, BidirectionalStrategyImagesAddUpAndItsFlagsAreChecked) {
+    const fs::path dir = fresh_dir("lesson5");
+    const std::string lesson = kBin + "/05_bidirectional --width 16 --height 16 --spp 2 ";
+    const RunResult r = run(lesson + "--strategies 2 --scene " + kSource +
+                            "/scenes/cornell_spheres.toml --out " + (dir / "s").string() +
+                            " --report " + (dir / "s.json").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    for (const char* layer :
+         {"s0_t2", "s1_t1", "s0_t3", "s1_t2", "s2_t1", "segments3plus"})
+        EXPECT_TRUE(fs::exists(dir / (std::string("s_") + layer + ".exr"))) << layer;
+    const std::string report = read_file(dir / "s.json");
+    for (const char* field : {"\"splat_bytes\"", "\"biased\": false", "\"layers\""})
+        EXPECT_NE(report.find(field), std::string::npos) << field << " in\n" << report;
+    // Weighted layers add up to the image: their shares sum to 100%.
+    double shares = 0.0;
+    for (size_t at = report.find("% of the image"); at != std::string::npos;
+         at = report.find("% of the image", at + 1)) {
+        const size_t start = report.rfind(' ', at - 1) + 1;
+        shares += std::stod(report.substr(start, at - start));
+    }
+    EXPECT_NEAR(shares, 100.0, 0.1) << report;
+    EXPECT_EQ(run(lesson + "--unweighted").exit_code, 2);
+    EXPECT_EQ(run(lesson + "--strategies 13").exit_code, 2);
+    const RunResult tracing = run(lesson + "--light-tracing --scene " + kSource +
+                                  "/scenes/cornell_spheres.toml --out " + (dir / "t").string());
+    ASSERT_EQ(tracing.exit_code, 0) << tracing.output;
+    EXPECT_NE(tracing.output.find("light tracing cannot show mirrors and glass"),
               std::string::npos)
-        << plain.output;
-    const RunResult sky = run(lesson + "--light-paths --scene " + kSource +
-                              "/scenes/whitted_1979.toml --out " + (dir / "sky").string());
-    EXPECT_EQ(sky.exit_code, 0) << sky.output;
-    EXPECT_NE(sky.output.find("no light paths start"), std::string::npos) << sky.output;
-    const RunResult help = run(kBin + "/04_rendering_equation --help");
-    EXPECT_NE(help.output.find("--light-paths"), std::string::npos);
+        << tracing.output;
+    const RunResult help = run(kBin + "/05_bidirectional --help");
+    for (const char* flag :
+         {"--max-depth", "--roulette-after", "--strategies", "--unweighted", "--light-tracing"})
+        EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
 }
 
 TEST(Cli, BadFlagsExitWithTwo) {
@@ -164,4 +196,16 @@ TEST(Cli, SameSeedSameImageAcrossThreadCounts) {
                   0);
     EXPECT_EQ(read_file(dir / "mc1.exr"), read_file(dir / "mc2.exr"));
     EXPECT_EQ(read_file(dir / "mc1.exr"), read_file(dir / "mc3.exr"));
+    // And for lesson 5, whose light tracing splats onto other pixels than its own (an image of
+    // more than one tile, so that threads share the work).
+    const std::string bidir =
+        kBin + "/05_bidirectional --scene " + kSource +
+        "/scenes/cornell_spheres.toml --width 40 --height 40 --spp 3 --quiet --seed 9 ";
+    for (int threads : {1, 2, 3})
+        ASSERT_EQ(run(bidir + "--threads " + std::to_string(threads) + " --out " +
+                      (dir / ("bd" + std::to_string(threads))).string())
+                      .exit_code,
+                  0);
+    EXPECT_EQ(read_file(dir / "bd1.exr"), read_file(dir / "bd2.exr"));
+    EXPECT_EQ(read_file(dir / "bd1.exr"), read_file(dir / "bd3.exr"));
 }

@@ -188,9 +188,10 @@ TEST(Lights, LightsAreChosenInProportionToTheirPower) {
 }
 
 TEST(Lights, EmissionSamplesCarryThePowerOfTheLightsAndMatchTheirDensities) {
-    // Light paths start with sample_emission(): L_e cos / (p_A p_dir) averages to the power the
-    // area lights emit, pi L A per emitting side, and emission_pdf() gives each sample's own
-    // densities back (MIS weights rely on it). The point light starts no light path.
+    // Light subpaths start with sample_emission(): L_e cos / (p_A p_dir) averages to the power the
+    // area lights emit, pi L A per emitting side, plus 4 pi I for the point light (I / (p p_dir),
+    // no cosine), and emission_pdf() / point_emission_pdf() give each sample's own densities
+    // back (lesson 5's weights rely on it).
     Scene scene;
     scene.add_quad(Quad(Vec3(-1, 1, -1), Vec3(2, 0, 0), Vec3(0, 0, 2)),
                    add_emitter(scene, Color(2.0f), true));  // area 4, both sides
@@ -200,33 +201,44 @@ TEST(Lights, EmissionSamplesCarryThePowerOfTheLightsAndMatchTheirDensities) {
     scene.add_point_light({Vec3(0, 5, 0), Color(10.0f)});
     scene.commit();
     const LightSampler sampler(scene);
-    const double expected = kPi * (2.0 * 4.0 * 2.0 + 1.0 * kPi + 3.0 * 0.5);
+    const double expected = kPi * (2.0 * 4.0 * 2.0 + 1.0 * kPi + 3.0 * 0.5) + 4.0 * kPi * 10.0;
     Rng rng(21);
     std::vector<double> power;
-    int back_of_quad = 0, quad = 0;
+    int back_of_quad = 0, quad = 0, point = 0;
     for (int i = 0; i < 200000; ++i) {
         const auto e = sampler.sample_emission(rng.uniform(), {rng.uniform(), rng.uniform()},
                                                {rng.uniform(), rng.uniform()});
-        if (!e) {
-            power.push_back(0.0);
+        ASSERT_TRUE(e);  // no environment here: every light starts a subpath
+        if (e->is_delta()) {
+            ++point;
+            EXPECT_EQ(e->point, Vec3(0, 5, 0));
+            EXPECT_NEAR(glm::length(e->ray.dir), 1.0f, 1e-5f);
+            power.push_back(luminance(e->radiance) / (e->pdf_area * e->pdf_dir));
+            const LightSampler::EmissionPdf pdf = sampler.point_emission_pdf(0);
+            EXPECT_FLOAT_EQ(pdf.area, e->pdf_area);
+            EXPECT_FLOAT_EQ(pdf.dir, e->pdf_dir);
             continue;
         }
         const float cos_q = glm::dot(e->normal, e->ray.dir);
         ASSERT_GT(cos_q, 0.0f);  // leaves on the side it names
         power.push_back(luminance(e->radiance) * cos_q / (e->pdf_area * e->pdf_dir));
+        const PrimRef prim = *e->emitter;
         const LightSampler::EmissionPdf pdf = sampler.emission_pdf(
-            e->emitter, e->emitter.kind() == ShapeKind::Quad ? Vec3(0, -1, 0) : e->normal,
-            e->ray.dir);
+            prim, prim.kind() == ShapeKind::Quad ? Vec3(0, -1, 0) : e->normal, e->ray.dir);
         EXPECT_NEAR(pdf.area, e->pdf_area, 1e-5f * e->pdf_area);
         EXPECT_NEAR(pdf.dir, e->pdf_dir, 1e-5f * e->pdf_dir);
-        if (e->emitter.kind() == ShapeKind::Quad) {
+        if (prim.kind() == ShapeKind::Quad) {
             ++quad;
             back_of_quad += e->normal.y > 0.0f;
             EXPECT_NEAR(e->point.y, 1.0f, 1e-6f);
         }
     }
+    EXPECT_GT(point, 0);
+    // Lights chosen by power make every sample carry the same power (a standard error of 0, up
+    // to rounding).
     const test::MeanAndError m = test::mean_and_error(power);
-    EXPECT_NEAR(m.mean, expected, test::z_quantile(kSignificance) * m.standard_error)
+    EXPECT_NEAR(m.mean, expected,
+                test::z_quantile(kSignificance) * m.standard_error + 1e-6 * expected)
         << "standard error " << m.standard_error;
     EXPECT_NEAR(back_of_quad, 0.5 * quad, 5 * std::sqrt(0.25 * quad));
 }

@@ -110,6 +110,15 @@ struct Canvas {
     }
 };
 
+// The mean over pixels and channels of a variance image the size of `like`.
+double mean_value(const Image& variance, const std::string& path, const Image& like) {
+    if (variance.width != like.width || variance.height != like.height)
+        throw std::runtime_error(path + ": not the size of the image");
+    double sum = 0.0;
+    for (const Color& c : variance.pixels) sum += (double(c.x) + c.y + c.z) / 3.0;
+    return variance.pixels.empty() ? 0.0 : sum / static_cast<double>(variance.pixels.size());
+}
+
 std::string format_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.3g", v);
@@ -129,6 +138,13 @@ int main(int argc, char** argv) {
     app.add_option("--second-half", second_half,
                    "A second, independent reference render: the reference becomes the mean of "
                    "the two, and its own noise is subtracted from the MSE");
+    std::string variance_path, reference_variance_path;
+    app.add_option("--variance", variance_path,
+                   "The image's per-pixel variance of the mean (a lesson's --variance EXR): with "
+                   "it, \"bias2\" estimates the MSE the image converges to, its squared bias: "
+                   "mse minus the mean variance of the image and of the reference");
+    app.add_option("--reference-variance", reference_variance_path,
+                   "The reference's per-pixel variance of the mean, for bias2");
     app.add_option("--out", out, "Write PREFIX_error.png and PREFIX_side_by_side.png");
     app.add_option("--scale", scale,
                    "Error mapped to the top of the colour map (default: 99th "
@@ -157,6 +173,15 @@ int main(int argc, char** argv) {
         m = compare_images(image, reference, image_path);
         std::printf("{\"mse\": %.9g, \"rmse\": %.9g, \"relmse\": %.9g, \"mae\": %.9g", m.mse,
                     m.rmse, m.relmse, m.mae);
+        if (!variance_path.empty()) {
+            // E[d^2] = bias^2 + Var(image) + Var(reference) per channel, for independent
+            // renders: what is left after the variances is the error more samples cannot remove.
+            double noise = mean_value(read_image(variance_path), variance_path, image);
+            if (!reference_variance_path.empty())
+                noise += mean_value(read_image(reference_variance_path), reference_variance_path,
+                                    image);
+            std::printf(", \"noise_mse\": %.9g, \"bias2\": %.9g", noise, m.mse - noise);
+        }
         if (!second_half.empty()) {
             const double corrected = m.mse - reference_noise;
             std::printf(

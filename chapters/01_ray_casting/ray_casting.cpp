@@ -170,7 +170,11 @@ Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& option
                               "shadows, no soft penumbra");
     for (const std::string& n : local_material_notes(scene)) model.notes.push_back(n);
     model.notes.push_back("indirect light ignored; a constant ambient radiance L_a = " +
-                          rgb(options.ambient) + " stands in for it (--ambient)");
+                          rgb(options.ambient) + " stands in for it (--ambient): it lights "
+                          "every diffuse point alike, in shadow or not, from no direction");
+    model.biased_because.push_back(
+        "a local model: light arriving from other surfaces (indirect light, reflections, "
+        "refraction) is missing, and the ambient term is a constant guess for it");
     if (scene.point_lights().empty() && scene.area_lights().empty())
         model.notes.push_back("the scene has no lights: only emission, ambient and background");
     return model;

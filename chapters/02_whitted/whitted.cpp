@@ -53,8 +53,9 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
             // conserves, so crossing into a denser medium compresses the beam's solid angle.
             if (F < 1.0f)
                 if (const std::optional<Vec3> wt = refract(si.wo, n, eta))
-                    L += follow(scene, si, *wt, Color((1.0f - F) / (eta * eta)), options, depth,
-                                attenuation);
+                    L += follow(scene, si, *wt,
+                                material.transmittance * ((1.0f - F) / (eta * eta)), options,
+                                depth, attenuation);
             break;
         }
         case MaterialType::Diffuse:
@@ -108,6 +109,13 @@ Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
                   "for it (--ambient)",
                   options.ambient.x, options.ambient.y, options.ambient.z);
     model.notes.push_back(ambient);
+    if (has_specular && !scene.point_lights().empty())
+        model.notes.push_back(
+            "point lights are never seen in mirrors or glass (a reflected ray never hits a "
+            "point): the lamp's reflection and its highlights through glass are missing");
+    model.biased_because.push_back(
+        "diffuse surfaces see lights only through shadow rays: light from other surfaces "
+        "(colour bleeding) and light focused by mirrors and glass (caustics) are missing");
     return model;
 }
 

@@ -5,9 +5,10 @@
 // refracted directions:
 //
 //   mirror:  L = L_e + R * L(p, reflect(wo))
-//   glass:   L = L_e + F(theta) * L(p, reflect(wo)) + (1 - F(theta)) / eta^2 * L(p, refract(wo))
+//   glass:   L = L_e + F(theta) * L(p, reflect(wo)) + T (1 - F(theta)) / eta^2 * L(p, refract(wo))
 //
-// with F the Fresnel reflectance (exact, or Schlick's approximation), eta = n_t / n_i, and all
+// with F the Fresnel reflectance (exact, or Schlick's approximation), eta = n_t / n_i, T the
+// glass's transmittance (1 for clear glass), and all
 // of it (F = 1) reflected past the critical angle. Recursion stops at a maximum depth, or when
 // the product of the weights along the path (its attenuation) falls below a threshold; a stopped
 // ray contributes nothing.

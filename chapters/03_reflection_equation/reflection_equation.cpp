@@ -59,7 +59,7 @@ Color light_sample_term(const Scene& scene, const LightSampler& lights,
                         const SurfaceInteraction& si, const Bsdf& bsdf, Rng& rng, bool mis,
                         MisHeuristic heuristic) {
     const float u_choose = rng.uniform();
-    const Vec2 u_light(rng.uniform(), rng.uniform());
+    const Vec2 u_light{rng.uniform(), rng.uniform()};  // braces: left to right
     const std::optional<LightSample> ls = lights.sample(si.surface_point(), u_choose, u_light);
     if (!ls) return Color(0.0f);
     const Color f = bsdf.eval(si.wo, ls->wi);
@@ -104,7 +104,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
         case Estimator::Uniform:
         case Estimator::Cosine: {
             const Frame frame(bsdf.normal());
-            const Vec2 u(rng.uniform(), rng.uniform());
+            const Vec2 u{rng.uniform(), rng.uniform()};
             const bool uniform = options.estimator == Estimator::Uniform;
             const Vec3 local = uniform ? sample_uniform_hemisphere(u) : sample_cosine_hemisphere(u);
             const float pdf = uniform ? uniform_hemisphere_pdf() : cosine_hemisphere_pdf(local.z);
@@ -142,7 +142,7 @@ Model make_reflection_model(const Scene& scene, const LightSampler& lights,
         estimator += options.heuristic == MisHeuristic::Power ? " (power heuristic)"
                                                               : " (balance heuristic)";
     model.notes.push_back(estimator);
-    model.notes.push_back(
+    model.biased_because.push_back(
         "direct illumination only: L_i is what emitters send; light reflected by other surfaces "
         "(indirect light) is ignored");
     const bool sees_points =

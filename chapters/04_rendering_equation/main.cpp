@@ -17,8 +17,6 @@ int main(int argc, char** argv) {
     lesson.add_options = [&](CLI::App& app) {
         app.add_flag("--plain", plain,
                      "Plain estimator: BSDF sampling only, no next-event estimation or MIS");
-        app.add_flag("--light-paths", options.light_paths,
-                     "Also connect every path vertex to a one-segment light path (MIS-weighted)");
         app.add_option("--max-depth", options.max_depth,
                        "Longest path in segments (1: emitters seen directly, 2: plus direct "
                        "light, ...); 0: unlimited")

@@ -1,0 +1,112 @@
+// Lesson 5: bidirectional path tracing (see bidirectional.h).
+#include "bidirectional.h"
+
+#include <algorithm>
+
+#include "rendering_equation.h"
+
+namespace lessons {
+
+int strategy_layer(int s, int t, int max_layer_segments) {
+    const int k = s + t - 1;  // segments
+    const int N = max_layer_segments;
+    return k <= N ? (k - 1) * (k + 2) / 2 + s : N * (N + 3) / 2;
+}
+
+Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+                    std::span<Color> layers, std::vector<Splat>& splats) {
+    const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
+    thread_local std::vector<Vertex> camera, light;
+    // Light tracing needs no camera path: the camera is joined to every light vertex.
+    camera_subpath(b, ray, rng, options.light_tracing ? 1 : longest + 1, options.roulette_after,
+                   camera);
+    light_subpath(b, rng, longest, options.roulette_after, light);
+
+    Color L(0.0f);
+    const int light_vertices = static_cast<int>(light.size());
+    const bool weighted = !options.light_tracing;
+    for (int t = 1; t <= static_cast<int>(camera.size()); ++t) {
+        for (int s = options.light_tracing ? 1 : 0; s <= std::max(light_vertices, 1); ++s) {
+            const int segments = s + t - 1;
+            if (segments < 1 || segments > longest) continue;
+            // A light sample (s = 1, t >= 2) is drawn afresh; every other s needs its vertices.
+            if (s > light_vertices && !(s == 1 && t >= 2)) continue;
+            const StrategySample c = connect(b, light, s, camera, t, rng, weighted);
+            if (is_black(c.L)) continue;
+            const Color contribution = weighted ? c.weight * c.L : c.L;
+            const Color layer_share = options.unweighted_layers ? c.L : contribution;
+            const int layer = options.strategy_layers > 0
+                                  ? strategy_layer(s, t, options.strategy_layers)
+                                  : -1;
+            if (t == 1) {  // light tracing: onto the pixel the light vertex is seen in
+                splats.push_back({*c.pixel, 0, contribution});
+                if (layer >= 0)
+                    splats.push_back({*c.pixel, static_cast<uint32_t>(1 + layer), layer_share});
+            } else {
+                L += contribution;
+                if (layer >= 0) layers[layer] += layer_share;
+            }
+        }
+    }
+    return L;
+}
+
+Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
+                               const BidirOptions& options) {
+    Model model;
+    const Bidir b{scene, lights, scene.camera, scene.width, scene.height};
+    model.splatting = [b, options](const Ray& ray, Rng& rng, std::span<Color> layers,
+                                   std::vector<Splat>& splats) {
+        return bidirectional(b, ray, rng, options, layers, splats);
+    };
+    if (options.strategy_layers > 0) {
+        const int N = options.strategy_layers;
+        for (int k = 1; k <= N; ++k)
+            for (int s = 0; s <= k; ++s)
+                model.layer_names.push_back("s" + std::to_string(s) + "_t" +
+                                            std::to_string(k + 1 - s));
+        model.layer_names.push_back("segments" + std::to_string(N + 1) + "plus");
+    }
+    const SceneContents contents = scene.contents();
+    if (options.light_tracing) {
+        model.notes.push_back(
+            "estimator: light tracing alone (the t = 1 strategies, unweighted): light subpaths "
+            "joined to the camera and splatted onto the film");
+        if (contents.delta_materials)
+            model.biased_because.push_back(
+                "light tracing cannot show mirrors and glass: a light vertex on them cannot be "
+                "joined to the camera (use the full estimator)");
+        if (contents.environment)
+            model.biased_because.push_back(
+                "light tracing cannot show the sky's light: no light subpath starts from it");
+    } else {
+        model.notes.push_back(
+            "estimator: bidirectional path tracing, every strategy (s, t) weighted by MIS (power "
+            "heuristic)");
+    }
+    if (options.strategy_layers > 0)
+        model.notes.push_back(std::string("strategy layers s{S}_t{T}") +
+                              (options.unweighted_layers
+                                   ? ", unweighted: each alone estimates every path it can make "
+                                     "(they do not add up to the image)"
+                                   : ", weighted: they add up to the image"));
+    if (contents.environment && !options.light_tracing)
+        model.notes.push_back(
+            "the sky starts no light subpaths: its light is found by camera paths that escape "
+            "(s = 0) and by light samples (s = 1), as in lesson 4");
+    if (contents.point_lights)
+        model.notes.push_back("point lights are not seen directly (a point covers no pixel)");
+    if (options.max_depth > 0)
+        model.biased_because.push_back("paths end after " + std::to_string(options.max_depth) +
+                                       " segments: later bounces are missing");
+    else
+        model.notes.push_back("no depth limit (a safety cut at " + std::to_string(kLongestPath) +
+                              " segments)");
+    if (options.roulette_after >= 0)
+        model.notes.push_back("Russian roulette on both subpaths after " +
+                              std::to_string(options.roulette_after) + " bounces (unbiased)");
+    if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
+    return model;
+}
+
+}  // namespace lessons

@@ -1,0 +1,53 @@
+// Lesson 5: bidirectional path tracing, the rendering equation solved from both ends (Veach
+// 1997, ch. 10). It adds to lesson 4 the paths that start at the lights.
+//
+// Lesson 4's camera paths find light in two ways: by hitting an emitter, or by a light sample
+// at a vertex. Neither finds light that leaves a point light, meets a mirror or glass and then a
+// diffuse surface: the glass scatters into one direction only, which never points at the
+// light's single point (a delta BSDF meets a delta light), so point-light caustics are missing;
+// and a small lamp behind glass is found only when a BSDF-sampled direction happens to hit it.
+// A light subpath y_0 y_1 ... follows the light itself; joining any prefix of it to any prefix
+// of a camera subpath z_0 z_1 ... gives a family of strategies (s, t) for the same paths:
+//   subpaths.h  the two random walks and the densities each vertex keeps;
+//   connect.h   the four kinds of join (s = 0, s = 1, t = 1: light tracing, splatted onto the
+//               film, and the general shadow ray);
+//   mis.h       the weights that make the strategies one estimator.
+// Every strategy alone is an unbiased estimator of the paths it can make; weighted by MIS they
+// add up to one that keeps each strategy's strengths.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "app.h"
+#include "connect.h"
+#include "lights.h"
+#include "render.h"
+#include "scene.h"
+
+namespace lessons {
+
+struct BidirOptions {
+    int max_depth = 0;          // 0: unlimited; else at most this many path segments
+    int roulette_after = 3;     // bounces before Russian roulette may end a subpath; < 0: never
+    int strategy_layers = 0;    // N > 0: a layer per strategy (s, t) of paths of 1 .. N segments
+    bool unweighted_layers = false;  // those layers without their MIS weights
+    bool light_tracing = false;      // the t = 1 strategies alone, unweighted
+};
+
+// The layer of strategy (s, t) when layers are kept for paths of up to N segments: paths of k
+// segments have the k + 1 strategies s = 0 .. k, in order of k; any longer path goes to the
+// last layer, number N (N + 3) / 2.
+int strategy_layer(int s, int t, int max_layer_segments);
+
+// One sample of the pixel of camera ray `ray`: the returned radiance (strategies with t >= 2),
+// each layer's share, and the light of t = 1 strategies appended to `splats` for the pixels it
+// lands on.
+Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+                    std::span<Color> layers, std::vector<Splat>& splats);
+
+// The model for the lesson driver; `lights` must outlive it.
+Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
+                               const BidirOptions& options);
+
+}  // namespace lessons

@@ -1,0 +1,35 @@
+// Lesson 5, section 3: multiple importance sampling over every strategy (Veach 1997, 10.2).
+//
+// A path of n vertices x_0 (on a light) ... x_{n-1} (the camera) can be made by n strategies at
+// most: s vertices from the light subpath and t = n - s from the camera subpath, joined by one
+// segment. Strategy s makes the path with density
+//   p_s = p_L(x_0) ... p_L(x_{s-1}) * p_C(x_s) ... p_C(x_{n-2})
+// (each vertex by the density of the side that made it: pdf_fwd on its own side, pdf_rev from
+// the other). The power heuristic weighs the strategy used against all of them,
+//   w_s = p_s^2 / sum_i p_i^2 = 1 / sum_i (p_i / p_s)^2,
+// and the ratios need no products of whole paths: moving the join one vertex towards the camera
+// multiplies the density by p_L(x_s) / p_C(x_s), one towards the light by p_C(x_{s-1}) /
+// p_L(x_{s-1}). Only the densities at the join's two ends, and at their neighbours, depend on
+// the join itself; they are computed here, the rest were stored as the subpaths were traced.
+//
+// Left out of the sum: strategies that would join a segment at a mirror or glass (a delta BSDF
+// has no density to meet), s = 0 for a point light (no camera path hits a point), and for the
+// environment, which starts no light subpaths, all but s = 0 and the light sample (s = 1, t >= 2). A delta choice (mirror, glass) is the same
+// from both sides, so its densities are left out of every ratio (taken as 1).
+#pragma once
+
+#include <span>
+
+#include "subpaths.h"
+
+namespace lessons {
+
+// The power-heuristic weight of strategy (s, t) for the path light[0 .. s-1] + camera[t-1 .. 0].
+// The vertices the strategy made itself, if any: `light_sample` instead of light[0] when s = 1
+// (a light sample at z_{t-1}), `camera_end` instead of camera[0] when t = 1 (the camera, joined
+// to a light vertex).
+float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
+                 std::span<const Vertex> camera, int t, const Vertex* light_sample,
+                 const Vertex* camera_end);
+
+}  // namespace lessons

@@ -1,0 +1,178 @@
+// Lesson 5, section 1: camera and light subpaths (see subpaths.h).
+#include "subpaths.h"
+
+#include <cmath>
+
+#include "rendering_equation.h"
+#include "sampling.h"
+
+namespace lessons {
+
+Vec3 direction(const Vertex& from, const Vertex& to) {
+    return to.infinite ? to.p : glm::normalize(to.p - from.p);
+}
+
+float to_area_density(float pdf_solid_angle, const Vertex& from, const Vertex& to) {
+    if (to.infinite) return pdf_solid_angle;
+    const Vec3 d = to.p - from.p;
+    const float d2 = glm::dot(d, d);
+    // A point (the camera, a point light) has no surface to tilt: its "cosine" is 1.
+    const float cos_to = to.n == Vec3(0.0f) ? 1.0f : glm::dot(to.n, d) / std::sqrt(d2);
+    return solid_angle_to_area_pdf(pdf_solid_angle, d2, cos_to);
+}
+
+float light_origin_density(const Bidir& b, const Vertex& v) {
+    if (v.infinite) return b.lights.environment_pdf();
+    if (v.type == VertexType::Light && v.point_light) return v.pdf_fwd;  // set when sampled
+    const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
+    return prim ? b.lights.emission_pdf(*prim, v.n, v.n).area : 0.0f;
+}
+
+float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next) {
+    if (v.infinite) return 0.0f;  // the environment starts no light subpath
+    const Vec3 w = direction(v, next);
+    float pdf_dir = 0.0f;
+    if (v.point_light) {
+        pdf_dir = uniform_sphere_pdf();
+    } else {
+        const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
+        // The emitting side: a light vertex's normal is on it; a camera vertex on an emitter saw
+        // its front from the side it arrived.
+        const Vec3 n = v.type == VertexType::Light || glm::dot(v.n, v.si.wo) > 0.0f ? v.n : -v.n;
+        if (prim) pdf_dir = b.lights.emission_pdf(*prim, n, w).dir;
+    }
+    return to_area_density(pdf_dir, v, next);
+}
+
+float density_towards(const Bidir& b, const Vertex& v, const Vertex* previous, const Vertex& next) {
+    switch (v.type) {
+        case VertexType::Camera: return to_area_density(b.camera.importance(direction(v, next)), v, next);
+        case VertexType::Light: return light_emission_density(b, v, next);
+        case VertexType::Surface:
+            if (!previous || v.delta) return 0.0f;
+            return to_area_density(v.bsdf->pdf(direction(v, *previous), direction(v, next)), v,
+                                   next);
+    }
+    return 0.0f;
+}
+
+namespace {
+
+// Light arrives at v from si.wo and leaves along w. With a shading normal n_s other than the
+// geometric n_g, f |w . n_s| (what the camera side uses) is not its own adjoint; the light side
+// needs f |wo . n_s| |w . n_g| / |wo . n_g| instead: this factor times |w . n_s|.
+float adjoint_shading_correction(const Vertex& v, const Vec3& w) {
+    const Vec3& wo = v.si.wo;
+    const float num = v.bsdf->abs_cos(wo) * std::fabs(glm::dot(w, v.si.n_geo));
+    const float den = std::fabs(glm::dot(wo, v.si.n_geo)) * v.bsdf->abs_cos(w);
+    return den > 0.0f ? num / den : 0.0f;
+}
+
+}  // namespace
+
+Color light_side_bsdf(const Vertex& v, const Vec3& w) {
+    return v.bsdf->eval(v.si.wo, w) * adjoint_shading_correction(v, w);
+}
+
+namespace {
+
+// Extends a subpath whose last vertex sent `ray` with solid-angle density pdf_dir and
+// throughput beta: lesson 4's loop, keeping every vertex and both of its densities. Light
+// subpaths carry importance through glass (Transport::Importance) and the shading-normal
+// correction; camera subpaths carry radiance.
+void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_vertices,
+                 int roulette_after, Transport transport, std::vector<Vertex>& path) {
+    const Color beta_start = beta;
+    for (int bounce = 0; static_cast<int>(path.size()) < max_vertices; ++bounce) {
+        Vertex& previous = path.back();
+        const std::optional<Hit> hit = b.scene.intersect(ray);
+        if (!hit) {
+            // The camera path escapes: a last vertex at the sky, if there is one.
+            if (transport == Transport::Radiance && !is_black(b.scene.background)) {
+                Vertex sky;
+                sky.type = VertexType::Light;
+                sky.infinite = true;
+                sky.p = ray.dir;
+                sky.beta = beta;
+                sky.pdf_fwd = pdf_dir;  // per steradian: a vertex at infinity has no area
+                path.push_back(sky);
+            }
+            return;
+        }
+        Vertex v;
+        v.si = b.scene.interaction(ray, *hit);
+        v.p = v.si.p;
+        v.n = v.si.n_geo;
+        v.bsdf.emplace(b.scene.material(v.si.material), v.si);
+        v.beta = beta;
+        v.pdf_fwd = to_area_density(pdf_dir, previous, v);
+        path.push_back(v);
+        Vertex& here = path.back();
+        Vertex& before = path[path.size() - 2];
+        if (static_cast<int>(path.size()) >= max_vertices) return;
+
+        const std::optional<BsdfSample> s =
+            here.bsdf->sample(here.si.wo, {rng.uniform(), rng.uniform()}, transport);
+        if (!s) return;
+        Color weight = s->f * here.bsdf->abs_cos(s->wi) / s->pdf;  // f cos / p, as in lesson 4
+        if (transport == Transport::Importance) weight *= adjoint_shading_correction(here, s->wi);
+        // The density of the way back: `before` sampled from here, given the new direction.
+        float pdf_back = here.bsdf->pdf(s->wi, here.si.wo);
+        float pdf_next = s->pdf;
+        if (s->is_delta) {
+            // A delta choice is made the same way from either side: the weights leave it out.
+            here.delta = true;
+            pdf_back = pdf_next = 0.0f;
+        }
+        before.pdf_rev = to_area_density(pdf_back, here, before);
+        beta *= weight;
+        if (is_black(beta) || !is_finite(beta)) return;
+        // Russian roulette on the throughput relative to the subpath's start (lesson 4's rule).
+        if (roulette_after >= 0 && bounce >= roulette_after) {
+            const float q = russian_roulette_survival(beta / max_component(beta_start));
+            if (rng.uniform() >= q) return;
+            beta /= q;
+        }
+        pdf_dir = pdf_next;
+        ray = spawn_ray(here.si.surface_point(), s->wi);
+    }
+}
+
+}  // namespace
+
+void camera_subpath(const Bidir& b, const Ray& ray, Rng& rng, int max_vertices, int roulette_after,
+                    std::vector<Vertex>& path) {
+    path.clear();
+    Vertex camera;
+    camera.type = VertexType::Camera;
+    camera.p = ray.origin;
+    camera.beta = Color(1.0f);  // W / p = 1: a pixel's sample is the radiance it sees
+    path.push_back(camera);
+    random_walk(b, ray, Color(1.0f), b.camera.importance(ray.dir), rng, max_vertices,
+                roulette_after, Transport::Radiance, path);
+}
+
+void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_after,
+                   std::vector<Vertex>& path) {
+    path.clear();
+    const float u_choose = rng.uniform();
+    const Vec2 u_point{rng.uniform(), rng.uniform()}, u_dir{rng.uniform(), rng.uniform()};
+    const std::optional<EmissionSample> e = b.lights.sample_emission(u_choose, u_point, u_dir);
+    if (!e || max_vertices < 1) return;
+    Vertex light;
+    light.type = VertexType::Light;
+    light.p = e->point;
+    light.n = e->normal;
+    light.point_light = e->is_delta();
+    light.emitter = e->emitter;
+    light.si.p_error = e->error;
+    light.pdf_fwd = e->pdf_area;
+    // y_0's beta: L_e / p_A(y_0); leaving it, times cos(theta) / p(w): the light-side beta.
+    light.beta = e->radiance / e->pdf_area;
+    path.push_back(light);
+    const float cos_q = light.point_light ? 1.0f : std::fabs(glm::dot(e->normal, e->ray.dir));
+    random_walk(b, e->ray, light.beta * (cos_q / e->pdf_dir), e->pdf_dir, rng, max_vertices,
+                roulette_after, Transport::Importance, path);
+}
+
+}  // namespace lessons

@@ -1,0 +1,89 @@
+// Lesson 5, section 1: the two subpaths. A camera subpath z_0 z_1 ... starts at the camera, a
+// light subpath y_0 y_1 ... at a point of a light; each continues by sampling its BSDFs, as
+// lesson 4's path does. Every vertex keeps what the connections and their weights need later:
+//   beta      the subpath's throughput up to the vertex (lesson 4's beta; on the light side
+//             L_e / p(y_0), then times f cos / p at every bounce: a flux-like "importance")
+//   pdf_fwd   the density, per unit area at the vertex, with which its own subpath reached it
+//   pdf_rev   the density with which the *other* subpath would have reached it, coming from the
+//             next vertex (the literature's p_rev; Veach 1997, ch. 10; pbrt-v3, 16.3)
+// Densities per unit area make the two directions comparable: a direction sampled at x with
+// density p(w) per steradian lands at y with density p(w) |cos(theta_y)| / d^2 per m^2.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "bsdf.h"
+#include "lights.h"
+#include "rng.h"
+#include "scene.h"
+
+namespace lessons {
+
+// What lesson 5 asks of the scene, the lights and the camera, in one place.
+struct Bidir {
+    const Scene& scene;
+    const LightSampler& lights;
+    const Camera& camera;
+    int width, height;
+};
+
+enum class VertexType { Camera, Light, Surface };
+
+struct Vertex {
+    VertexType type = VertexType::Surface;
+    // Position; for the environment (a light at infinity), the unit direction towards it.
+    Vec3 p{0.0f};
+    // Unit geometric normal: of the surface, or of a light's emitting side; zero for points (the
+    // camera's pinhole, a point light) and for the environment.
+    Vec3 n{0.0f};
+    bool infinite = false;     // the environment
+    bool point_light = false;  // a point light: a delta position, never hit by a camera path
+    std::optional<PrimRef> emitter;  // a Light vertex on an emissive surface
+    SurfaceInteraction si{};         // Surface vertices: the hit (si.wo points back along the
+                                     // subpath)
+    std::optional<Bsdf> bsdf;        // Surface vertices
+    Color beta{0.0f};
+    bool delta = false;  // scattered by a mirror or glass: no connection is made here
+    float pdf_fwd = 0.0f, pdf_rev = 0.0f;
+
+    SurfacePoint surface_point() const { return {p, si.p_error, n}; }
+    // Whether a strategy may join a segment to this vertex: not at a mirror or glass, not at the
+    // environment (its light is found by the camera path escaping, s = 0, or by a light sample,
+    // s = 1), and not at a point light from the camera (a point is never seen directly).
+    bool connectible() const { return !delta && !infinite; }
+};
+
+// The unit direction from vertex `from` towards `to` (towards the sky for the environment).
+Vec3 direction(const Vertex& from, const Vertex& to);
+// A solid-angle density at `from` for the direction towards `to`, as a density per unit area
+// at `to` (unchanged for the environment, whose vertices are directions).
+float to_area_density(float pdf_solid_angle, const Vertex& from, const Vertex& to);
+
+// The densities of the weights: how likely each strategy was to make a vertex.
+// p_A(next) when vertex v samples the direction towards `next`, having been reached from
+// `previous` (ignored at the camera and at lights): its BSDF's density, the camera's, or the
+// light's emission density.
+float density_towards(const Bidir& b, const Vertex& v, const Vertex* previous, const Vertex& next);
+// The density with which a light subpath starts at v (which must lie on a light): per unit area
+// (the light's choice probability over its area; a point light's choice probability alone), and
+// per steradian for the environment.
+float light_origin_density(const Bidir& b, const Vertex& v);
+// The density per unit area at `next` of a light subpath leaving the light point v towards it.
+float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next);
+
+// The camera subpath of the primary ray: z_0 the pinhole, then up to max_vertices - 1 hits (and
+// a last vertex at the environment if the path escapes into a sky).
+void camera_subpath(const Bidir& b, const Ray& ray, Rng& rng, int max_vertices, int roulette_after,
+                    std::vector<Vertex>& path);
+// A light subpath: y_0 on a light chosen by power, then up to max_vertices - 1 hits. Empty when
+// the chosen light starts none (the environment).
+void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_after,
+                   std::vector<Vertex>& path);
+
+// The BSDF of a light-subpath vertex towards w, as light arriving from si.wo and leaving along w
+// sees it: f, with the correction that interpolated shading normals need on this side (the
+// adjoint of a shading-normal BSDF is not the same BSDF: Veach 1997, 5.3).
+Color light_side_bsdf(const Vertex& v, const Vec3& w);
+
+}  // namespace lessons
