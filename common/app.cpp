@@ -123,7 +123,10 @@ RenderResult collect(std::vector<Film>& films, const RenderStats& stats) {
     r.firefly_pixels = film.firefly_pixels();
     r.clamped_samples = film.clamped_samples();
     r.splat_bytes = stats.splat_bytes;
-    for (size_t k = 1; k < films.size(); ++k) r.layers.push_back(films[k].mean());
+    for (size_t k = 1; k < films.size(); ++k) {
+        r.layers.push_back(films[k].mean());
+        r.layer_variances.push_back(films[k].variance_of_mean());
+    }
     return r;
 }
 

@@ -75,6 +75,7 @@ struct RenderResult {
     Image image;
     std::vector<Image> layers;
     Image variance;
+    std::vector<Image> layer_variances;  // per layer, as `variance` is for the image
     RenderStats stats;
     int nan_pixels = 0, inf_pixels = 0;
     uint64_t nan_samples = 0, inf_samples = 0;

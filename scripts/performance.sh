@@ -58,14 +58,15 @@ echo "renderer,spp,seconds,rmse_corrected,reference_noise_rmse" > "$CSV"
 for spp in $SPP_LIST; do
     # Ours: the render time as the lesson reports it (rendering only, 2 threads), with each
     # sampler (--sampler: independent random numbers, or a stratified Kronecker sequence), and
-    # with light paths (--light-paths) on the Kronecker sequence.
-    for variant in independent kronecker kronecker+light-paths; do
+    # lesson 5 (bidirectional path tracing, which replaced lesson 4's --light-paths) on the
+    # Kronecker sequence.
+    for variant in independent kronecker kronecker+bidirectional; do
         sampler="${variant%%+*}"
-        flags=()
-        [ "$variant" = "${variant%+light-paths}" ] || flags+=(--light-paths)
+        lesson=04_rendering_equation
+        [ "$variant" = "${variant%+bidirectional}" ] || lesson=05_bidirectional
         name="ours_${variant}_${spp}spp"
-        "$BIN/04_rendering_equation" --scene "$SCENE" --spp "$spp" --seed $((1000 + spp)) \
-            --sampler "$sampler" "${flags[@]}" --out "$OUT/$name" --report "$OUT/$name.json" --quiet
+        "$BIN/$lesson" --scene "$SCENE" --spp "$spp" --seed $((1000 + spp)) \
+            --sampler "$sampler" --out "$OUT/$name" --report "$OUT/$name.json" --quiet
         seconds="$(field "$OUT/$name.json" seconds)"
         "$BIN/compare" "$OUT/$name.exr" "$OUT/ours_ref_${REF_SPP}spp_seed1.exr" \
             --second-half "$OUT/ours_ref_${REF_SPP}spp_seed2.exr" > "$OUT/${name}_error.json"

@@ -158,3 +158,76 @@ TEST(Bidirectional, AgreesWithPathTracingPixelByPixelWhereThatIsUnbiased) {
             << m5 << " vs " << m4 << " in " << file;
     }
 }
+
+TEST(Bidirectional, EachStrategyAloneEstimatesAllTheLightOfItsPathLength) {
+    // Unweighted, strategy (s, t) is an unbiased estimator of all the light carried by paths of
+    // s + t - 1 segments (in this all-diffuse box every strategy can make every such path); the
+    // weighted strategies of one length add up to the same light. Image means, z-tests against
+    // the standard errors of both renders.
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {8, 8});
+    BidirOptions weighted, unweighted;
+    weighted.max_depth = unweighted.max_depth = 3;
+    weighted.strategy_layers = unweighted.strategy_layers = 3;
+    unweighted.unweighted_layers = true;
+    const RenderResult w = render_lesson5(scene, weighted, 4096, 21);
+    const RenderResult u = render_lesson5(scene, unweighted, 4096, 22);
+    ASSERT_EQ(w.layers.size(), 10u);  // 2 + 3 + 4 strategies, and the longer paths
+    for (int k = 1; k <= 3; ++k) {
+        double total = 0.0, total_var = 0.0;
+        for (int s = 0; s <= k; ++s) {
+            const int layer = strategy_layer(s, k + 1 - s, 3);
+            const auto [m, v] = image_mean(w.layers[layer], w.layer_variances[layer]);
+            total += m;
+            total_var += v;  // an upper bound: the layers of one sample are correlated
+        }
+        for (int s = 0; s <= k; ++s) {
+            const int t = k + 1 - s, layer = strategy_layer(s, t, 3);
+            const auto [m, v] = image_mean(u.layers[layer], u.layer_variances[layer]);
+            EXPECT_LT(z_score(m, v, total, total_var), test::z_quantile(kSignificance))
+                << "strategy (" << s << ", " << t << ") alone: " << m << " (standard error "
+                << std::sqrt(v) << "), all strategies of " << k << " segments: " << total;
+        }
+    }
+    // The weighted layers add up to the image (nothing is longer than 3 segments).
+    for (size_t i = 0; i < w.image.pixels.size(); ++i) {
+        float sum = 0.0f;
+        for (const Image& layer : w.layers) sum += layer.pixels[i].x;
+        EXPECT_NEAR(sum, w.image.pixels[i].x, 1e-4f * w.image.pixels[i].x + 1e-6f);
+    }
+}
+
+TEST(Bidirectional, LightTracingAloneAgreesWithPathTracingOnTheCornellBox) {
+    // The t = 1 strategies alone, unweighted, splatted through the camera's importance: every
+    // pixel of an all-diffuse scene, and the lamp seen directly (s = 1, t = 1).
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {16, 16});
+    BidirOptions tracing;
+    tracing.light_tracing = true;
+    const RenderResult lt = render_lesson5(scene, tracing, 4096, 31);
+    const RenderResult pt = render_lesson4(scene, {}, 4096, 32);
+    const auto [passed, tested] = channels_that_agree(lt, pt);
+    EXPECT_GE(passed, 0.9975 * tested) << passed << " of " << tested;
+    const auto [m1, v1] = image_mean(lt.image, lt.variance);
+    const auto [m2, v2] = image_mean(pt.image, pt.variance);
+    EXPECT_LT(z_score(m1, v1, m2, v2), test::z_quantile(kSignificance)) << m1 << " vs " << m2;
+    EXPECT_GT(lt.splat_bytes, 0u);
+}
+
+TEST(Bidirectional, LightSubpathsLowerTheVarianceUnderTheCeilingOfTheRtiowBox) {
+    // What lesson 4's --light-paths was for, and lesson 5 does: the RTIOW box's two-sided lamp
+    // hangs one unit below the ceiling, which is lit almost only through that gap; camera
+    // paths find the gap rarely, light subpaths start in it. Equal samples per pixel, the
+    // variance of the pixels that see the ceiling.
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box_rtiow.toml", {16, 16});
+    const RenderResult five = render_lesson5(scene, {}, 256, 41);
+    const RenderResult four = render_lesson4(scene, {}, 256, 42);
+    double v5 = 0.0, v4 = 0.0;
+    for (int y = 0; y < 3; ++y)
+        for (int x = 4; x < 12; ++x) {
+            v5 += five.variance.pixels[y * 16 + x].x;
+            v4 += four.variance.pixels[y * 16 + x].x;
+        }
+    EXPECT_LT(v5, 0.5 * v4) << "variance of the ceiling's pixels: " << v5 << " against " << v4;
+}
