@@ -166,6 +166,8 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
             total.rays += s.rays;
             total.splat_bytes = std::max(total.splat_bytes, s.splat_bytes);
             if (s.stopped) {
+                // A splatting model keeps the passes it finished whole (render_splatting).
+                if (model.splatting) done += s.complete_passes;
                 interrupted = true;
                 break;
             }
@@ -186,6 +188,7 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
             total.rays += s.rays;
             total.splat_bytes = std::max(total.splat_bytes, s.splat_bytes);
             if (s.stopped) {
+                if (model.splatting) done += s.complete_passes;
                 interrupted = true;
                 break;
             }

@@ -34,6 +34,14 @@ void Film::add_sample(size_t index, const Color& radiance) {
     ++p.valid;
 }
 
+void Film::reject_sample(size_t index, const Color& radiance) {
+    Pixel& p = pixels_[index];
+    if (std::isnan(radiance.x) || std::isnan(radiance.y) || std::isnan(radiance.z))
+        ++p.nan;
+    else
+        ++p.inf;
+}
+
 Image Film::mean() const {
     Image image(width_, height_);
     for (size_t i = 0; i < pixels_.size(); ++i) {

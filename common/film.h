@@ -5,6 +5,7 @@
 // that are NaN or infinite are never averaged in: they are counted, reported, and left out.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <glm/vec3.hpp>
 #include <vector>
@@ -25,6 +26,10 @@ public:
     // Adds one radiance sample to pixel `index` (row-major). Called by one thread per pixel.
     void add_sample(size_t index, const Color& radiance);
 
+    // Counts a NaN or infinite sample for pixel `index` without adding anything (render_splatting
+    // leaves such splats out; they are reported like any other invalid sample).
+    void reject_sample(size_t index, const Color& radiance);
+
     // The per-pixel mean of the valid samples.
     Image mean() const;
     // The per-pixel sample variance of the mean, s^2 / N (zero with fewer than two samples).
@@ -38,6 +43,12 @@ public:
     int firefly_pixels() const;
     // Optional, biased: scale down every sample whose luminance exceeds `max_luminance`.
     void set_clamp(float max_luminance) { clamp_ = max_luminance; }
+    // The factor the clamp scales a sample by (1 when it is not clamped): the render loop scales
+    // a sample's layers by it too, so that clamped layers still add up to the clamped image.
+    float clamp_scale(const Color& radiance) const {
+        const float lum = luminance(radiance);
+        return clamp_ > 0.0f && lum > clamp_ && std::isfinite(lum) ? clamp_ / lum : 1.0f;
+    }
     uint64_t clamped_samples() const;
     int inf_pixels() const;  // pixels that received at least one infinite sample
 

@@ -125,8 +125,11 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
                 const Ray ray =
                     camera_ray(camera, settings, x, y, pixel, s, tiles.width, tiles.height, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
-                films[0].add_sample(pixel, radiance(ray, rng, layers));
-                for (size_t k = 0; k < layer_count; ++k) films[1 + k].add_sample(pixel, layers[k]);
+                const Color value = radiance(ray, rng, layers);
+                films[0].add_sample(pixel, value);
+                const float scale = films[0].clamp_scale(value);
+                for (size_t k = 0; k < layer_count; ++k)
+                    films[1 + k].add_sample(pixel, scale * layers[k]);
             }
         });
         progress.advance(pixels * samples);
@@ -178,12 +181,23 @@ RenderStats render_splatting(const Camera& camera, std::span<Film> films,
         size_t bytes = 0;
         for (const std::vector<Splat>& splats : tile_splats) {  // in tile order
             bytes += splats.capacity() * sizeof(Splat);
-            for (const Splat& splat : splats) pass[splat.film][splat.pixel] += splat.value;
+            for (const Splat& splat : splats) {
+                // A non-finite splat would spoil the whole sample of the pixel it lands on:
+                // counted and left out on its own instead.
+                if (is_finite(splat.value))
+                    pass[splat.film][splat.pixel] += splat.value;
+                else
+                    films[splat.film].reject_sample(splat.pixel, splat.value);
+            }
         }
         stats.splat_bytes = std::max(stats.splat_bytes, bytes);
-        for (size_t f = 0; f < films.size(); ++f)
-            for (size_t pixel = 0; pixel < pixel_count; ++pixel)
-                films[f].add_sample(pixel, pass[f][pixel]);
+        ++stats.complete_passes;
+        for (size_t pixel = 0; pixel < pixel_count; ++pixel) {
+            films[0].add_sample(pixel, pass[0][pixel]);
+            const float scale = films[0].clamp_scale(pass[0][pixel]);
+            for (size_t f = 1; f < films.size(); ++f)
+                films[f].add_sample(pixel, scale * pass[f][pixel]);
+        }
     }
     if (!settings.shared_progress) progress.finish();
     stats.seconds = seconds_since(start);

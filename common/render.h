@@ -66,6 +66,7 @@ struct RenderStats {
     uint64_t rays = 0;     // rays traced (primary, shadow and secondary)
     bool stopped = false;  // settings.stop was set before every tile was done
     size_t splat_bytes = 0;  // splatting renders: the most memory one pass's splats held
+    int complete_passes = 0;  // splatting renders: sample indices added to the film in full
 };
 
 // Adds samples [sample_begin, sample_end) of every pixel to the film.

@@ -385,6 +385,12 @@ SceneContents Scene::contents() const {
     for (uint32_t m : sphere_materials_) c.delta_materials |= delta(m);
     for (uint32_t m : quad_materials_) c.delta_materials |= delta(m);
     for (const Triangle& t : triangles_) c.delta_materials |= delta(t.material);
+    for (const PointLight& l : point_lights_) {
+        const Vec3 d = l.position - camera.position();
+        if (glm::dot(d, d) > 0.0f)
+            c.point_light_in_view |=
+                camera.raster_position(glm::normalize(d), width, height).has_value();
+    }
     return c;
 }
 

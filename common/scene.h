@@ -104,6 +104,7 @@ struct SceneContents {
     bool area_lights = false;
     bool environment = false;      // a background of nonzero radiance
     bool delta_materials = false;  // a mirror or glass on some shape
+    bool point_light_in_view = false;  // a point light the camera sees (unless something hides it)
 };
 
 // Rays traced by the calling thread since it started: the render loop reads the difference.

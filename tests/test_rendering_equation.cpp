@@ -210,3 +210,24 @@ TEST(RenderingEquation, TheKroneckerSamplerIsUnbiased) {
         }
     }
 }
+
+TEST(RenderingEquation, ClampedBounceLayersStillAddUpToTheImage) {
+    // --clamp scales a bright sample down; its bounce layers are scaled by the same factor, so
+    // the layers of a clamped render add up to its (biased) image as they do without a clamp.
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_spheres.toml", {16, 16});
+    const LightSampler lights(scene);
+    PathOptions layered;
+    layered.bounce_layers = 3;
+    RenderSettings settings;
+    settings.progress = false;
+    settings.clamp = 0.5f;
+    const RenderResult r =
+        render_scene(scene, make_path_tracing_model(scene, lights, layered), 64, settings);
+    ASSERT_GT(r.clamped_samples, 0u);
+    for (size_t i = 0; i < r.image.pixels.size(); ++i) {
+        float sum = 0.0f;
+        for (const Image& layer : r.layers) sum += layer.pixels[i].x;
+        EXPECT_NEAR(sum, r.image.pixels[i].x, 1e-4f * r.image.pixels[i].x + 1e-6f) << i;
+    }
+}

@@ -106,6 +106,10 @@ Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
             "point-light caustics are missing: light from a point light by way of a mirror or "
             "glass is never found from the camera (a delta BSDF meets a delta light); lesson 5 "
             "renders it");
+    if (contents.point_light_in_view)
+        model.biased_because.push_back(
+            "a point light in view is missing: no ray hits a point (lesson 5 joins the light to "
+            "the camera: one bright pixel)");
     if (contents.area_lights && contents.delta_materials)
         model.notes.push_back(
             "caustics of lamps through mirrors and glass are found only by BSDF paths that "

@@ -94,8 +94,11 @@ Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
         model.notes.push_back(
             "the sky starts no light subpaths: its light is found by camera paths that escape "
             "(s = 0) and by light samples (s = 1), as in lesson 4");
-    if (contents.point_lights)
-        model.notes.push_back("point lights are not seen directly (a point covers no pixel)");
+    if (contents.point_lights && contents.delta_materials)
+        model.biased_because.push_back(
+            "a point light seen in a mirror or through glass is missing, and so is its caustic "
+            "seen that way: a delta BSDF next to each end of the path leaves no strategy to join "
+            "them (the caustic seen directly is found)");
     if (options.max_depth > 0)
         model.biased_because.push_back("paths end after " + std::to_string(options.max_depth) +
                                        " segments: later bounces are missing");

@@ -46,9 +46,10 @@ Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
 
 // t = 1: light vertex y joined to the camera. The importance W = 1 / (A cos^3) already holds
 // the camera end's cosine; the light end gives f |cos| / d^2 (for y_0 itself, seen directly:
-// the light's emission towards the camera, whose L_e is in y_0's beta).
+// the light's emission towards the camera, whose L_e is in y_0's beta; a point light has no
+// cosine, and lands as one bright pixel, its power's share).
 Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixel) {
-    if (!y.connectible() || y.point_light) return Color(0.0f);  // a point is never seen
+    if (!y.connectible()) return Color(0.0f);
     const Vec3 to_y = y.p - b.camera.position();
     const float d2 = glm::dot(to_y, to_y);
     if (!(d2 > 0.0f)) return Color(0.0f);
@@ -57,7 +58,10 @@ Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixe
     if (!raster) return Color(0.0f);
     Color f;
     float cos_y;
-    if (y.type == VertexType::Light) {
+    if (y.point_light) {
+        f = Color(1.0f);
+        cos_y = 1.0f;
+    } else if (y.type == VertexType::Light) {
         cos_y = glm::dot(y.n, -w);
         const bool two_sided = b.scene.material(b.scene.material_of(*y.emitter)).two_sided;
         f = Color(cos_y > 0.0f || two_sided ? 1.0f : 0.0f);

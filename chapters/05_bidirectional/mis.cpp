@@ -15,7 +15,9 @@ struct VertexDensities {
 };
 
 // A density of 0 belongs to a delta choice here (the strategies that would need it are left out
-// by the delta flags), and counts as 1 in the ratios.
+// by the delta flags), and counts as 1 in the ratios (pbrt's remap0). The one other zero, a light
+// the sampler never chooses (its power is not finite), would count as 1 too: such a scene is
+// refused long before (scene files bound every emission and size).
 double nonzero(double pdf) {
     return pdf != 0.0 ? pdf : 1.0;
 }
@@ -54,12 +56,23 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     d[s].delta = false;
     if (q) d[s - 1].delta = false;
 
+    // The light sample (s = 1, t >= 2) picks x_0 with its own density, not the light subpath's
+    // start: strategy 1 has it in place of p_L(x_0), and the ratios between strategies 0, 1 and 2
+    // swap it in and out.
+    const double sampled_x0 =
+        n >= 3 ? nonzero(light_sample_density(b, x(0), x(1))) : nonzero(d[0].from_light);
+    const double started_x0 = nonzero(d[0].from_light);
+    auto from_light = [&](int i, int strategy) {
+        return i == 0 && strategy == 1 ? sampled_x0 : nonzero(d[i].from_light);
+    };
+
     const bool sky = x(0).infinite, point_light = x(0).point_light;
     double sum = 0.0;
     // Strategies with the join nearer the camera: x_{k-1} made from the light side instead.
     double ratio = 1.0;
     for (int k = s + 1; k < n; ++k) {
-        ratio *= nonzero(d[k - 1].from_light) / nonzero(d[k - 1].from_camera);
+        ratio *= from_light(k - 1, k) / nonzero(d[k - 1].from_camera);
+        if (k == 2) ratio *= started_x0 / sampled_x0;  // x_0: a light sample no longer
         // The sky starts no light subpaths: only a light sample (s = 1, t >= 2) finds it.
         if (sky && (k >= 2 || k == n - 1)) break;
         if (!d[k - 1].delta && !d[k].delta) sum += ratio * ratio;
@@ -67,7 +80,8 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // Strategies with the join nearer the light: x_k made from the camera side instead.
     ratio = 1.0;
     for (int k = s - 1; k >= 0; --k) {
-        ratio *= nonzero(d[k].from_camera) / nonzero(d[k].from_light);
+        ratio *= nonzero(d[k].from_camera) / from_light(k, k + 1);
+        if (k == 1) ratio *= sampled_x0 / started_x0;  // x_0: now from a light sample
         const bool joins = k == 0 ? !point_light : !d[k - 1].delta && !d[k].delta;
         if (joins) sum += ratio * ratio;
     }

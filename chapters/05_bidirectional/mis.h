@@ -14,8 +14,11 @@
 //
 // Left out of the sum: strategies that would join a segment at a mirror or glass (a delta BSDF
 // has no density to meet), s = 0 for a point light (no camera path hits a point), and for the
-// environment, which starts no light subpaths, all but s = 0 and the light sample (s = 1, t >= 2). A delta choice (mirror, glass) is the same
-// from both sides, so its densities are left out of every ratio (taken as 1).
+// environment, which starts no light subpaths, all but s = 0 and the light sample (s = 1,
+// t >= 2). A delta choice (mirror, glass) is the same
+// from both sides, so its densities are left out of every ratio (taken as 1). The light sample
+// (s = 1) picks x_0 by lesson 3's density (by solid angle where it can), the light subpath by
+// the light's area: each strategy's ratio uses its own.
 #pragma once
 
 #include <span>

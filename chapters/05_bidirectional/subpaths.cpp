@@ -28,6 +28,13 @@ float light_origin_density(const Bidir& b, const Vertex& v) {
     return prim ? b.lights.emission_pdf(*prim, v.n, v.n).area : 0.0f;
 }
 
+float light_sample_density(const Bidir& b, const Vertex& v, const Vertex& from) {
+    const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
+    if (v.infinite || v.point_light || !prim) return light_origin_density(b, v);
+    const Vec3 n = v.type == VertexType::Light || glm::dot(v.n, v.si.wo) > 0.0f ? v.n : -v.n;
+    return to_area_density(b.lights.pdf(from.p, *prim, v.p, n), from, v);
+}
+
 float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next) {
     if (v.infinite) return 0.0f;  // the environment starts no light subpath
     const Vec3 w = direction(v, next);
@@ -46,7 +53,8 @@ float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next
 
 float density_towards(const Bidir& b, const Vertex& v, const Vertex* previous, const Vertex& next) {
     switch (v.type) {
-        case VertexType::Camera: return to_area_density(b.camera.importance(direction(v, next)), v, next);
+        case VertexType::Camera:
+            return to_area_density(b.camera.importance(direction(v, next)), v, next);
         case VertexType::Light: return light_emission_density(b, v, next);
         case VertexType::Surface:
             if (!previous || v.delta) return 0.0f;
@@ -84,7 +92,6 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
                  int roulette_after, Transport transport, std::vector<Vertex>& path) {
     const Color beta_start = beta;
     for (int bounce = 0; static_cast<int>(path.size()) < max_vertices; ++bounce) {
-        Vertex& previous = path.back();
         const std::optional<Hit> hit = b.scene.intersect(ray);
         if (!hit) {
             // The camera path escapes: a last vertex at the sky, if there is one.
@@ -105,7 +112,7 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
         v.n = v.si.n_geo;
         v.bsdf.emplace(b.scene.material(v.si.material), v.si);
         v.beta = beta;
-        v.pdf_fwd = to_area_density(pdf_dir, previous, v);
+        v.pdf_fwd = to_area_density(pdf_dir, path.back(), v);
         path.push_back(v);
         Vertex& here = path.back();
         Vertex& before = path[path.size() - 2];

@@ -48,9 +48,9 @@ struct Vertex {
     float pdf_fwd = 0.0f, pdf_rev = 0.0f;
 
     SurfacePoint surface_point() const { return {p, si.p_error, n}; }
-    // Whether a strategy may join a segment to this vertex: not at a mirror or glass, not at the
-    // environment (its light is found by the camera path escaping, s = 0, or by a light sample,
-    // s = 1), and not at a point light from the camera (a point is never seen directly).
+    // Whether a strategy may join a segment to this vertex: not at a mirror or glass, and not at
+    // the environment (its light is found by the camera path escaping, s = 0, or by a light
+    // sample, s = 1).
     bool connectible() const { return !delta && !infinite; }
 };
 
@@ -71,6 +71,10 @@ float density_towards(const Bidir& b, const Vertex& v, const Vertex* previous, c
 float light_origin_density(const Bidir& b, const Vertex& v);
 // The density per unit area at `next` of a light subpath leaving the light point v towards it.
 float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next);
+// The density with which a light sample taken at `from` (lesson 3's, by solid angle where it
+// can) picks the light point v: per unit area on an area light; a point light's and the sky's
+// are their origin densities (a choice probability; per steradian).
+float light_sample_density(const Bidir& b, const Vertex& v, const Vertex& from);
 
 // The camera subpath of the primary ray: z_0 the pinhole, then up to max_vertices - 1 hits (and
 // a last vertex at the environment if the path escapes into a sky).
