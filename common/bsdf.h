@@ -1,6 +1,6 @@
 // BSDFs: how a surface scatters light, f(p, wo, wi), for lessons 3 to 5.
 //
-// The contract (STYLE.md), which every estimator relies on:
+// The contract, which every estimator relies on:
 //   eval(wo, wi)   returns f alone, without the cosine, in 1/sr;
 //   pdf(wo, wi)    is the density of sample() producing wi, per unit solid angle;
 //   sample(wo, u)  returns {wi, f, pdf, is_delta}, *not* divided by the pdf, so the estimator

@@ -26,7 +26,7 @@
 
 namespace lessons {
 
-// The one conversion of an area density into a solid-angle density (STYLE.md): a patch dA at
+// The one conversion of an area density into a solid-angle density , written once: a patch dA at
 // distance d, tilted by theta_l from the direction back to the shading point, subtends
 // d(omega) = cos(theta_l) dA / d^2, so p_omega = p_A d^2 / |cos(theta_l)|.
 inline float area_to_solid_angle_pdf(float pdf_area, float distance_squared, float cos_light) {

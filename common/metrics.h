@@ -1,4 +1,4 @@
-// How wrong an image is, against a reference it did not produce (ACCURACY.md, "Measuring error
+// How wrong an image is, against a reference it did not produce (docs/accuracy.md, "Measuring error
 // against speed"). d is the per-channel difference image - reference; every mean is over all
 // pixels and all three channels.
 //   mse    = mean(d^2)                       mean squared error = variance + bias^2

@@ -1,6 +1,6 @@
 // Smooth interfaces: mirror reflection, Snell refraction and the Fresnel equations.
 //
-// Conventions (STYLE.md): directions point away from the surface. `n` is a unit normal on the
+// Conventions: directions point away from the surface. `n` is a unit normal on the
 // side of the incident direction wi, so cos_i = dot(wi, n) >= 0. eta = n_t / n_i is the ratio
 // of the refractive index on the far side to the index on wi's side.
 #pragma once

@@ -1,4 +1,4 @@
-// Sampling routines, each beside its density (STYLE.md: they come in pairs).
+// Sampling routines, each beside its density (they come in pairs: sample_X beside X_pdf).
 //
 // Every routine maps uniform numbers u in [0, 1)^2 to a point of its domain; the matching
 // *_pdf gives the density of that point with respect to the domain's natural measure: solid

@@ -1,4 +1,4 @@
-// Spawning secondary rays without self-intersection (ACCURACY.md, hard case 3).
+// Spawning secondary rays without self-intersection (docs/accuracy.md, hard case 3).
 //
 // A hit point computed in floating point lies a little off the true surface, on either side.
 // A ray started exactly there can re-hit the surface it leaves ("shadow acne"). A fixed epsilon

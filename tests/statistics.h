@@ -1,4 +1,4 @@
-// Statistical tests for samplers and estimators (ACCURACY.md): the chi-square goodness-of-fit
+// Statistical tests for samplers and estimators (docs/accuracy.md): the chi-square goodness-of-fit
 // test of a sampling routine against its density, and the z-test of a mean.
 #pragma once
 
@@ -80,7 +80,7 @@ struct Chi2Result {
     std::string report;
 };
 
-// Chi-square test of a direction sampler against its density (Nori's chi2test, ACCURACY.md):
+// Chi-square test of a direction sampler against its density (Nori's chi2test, docs/accuracy.md):
 // `samples` directions are binned over a (cos theta, phi) grid of the whole sphere; expected
 // counts come from the density integrated over each cell (solid angle = d cos(theta) d phi);
 // cells expecting fewer than 5 samples are pooled. It fails at once if a sample lands where

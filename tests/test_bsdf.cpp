@@ -1,5 +1,5 @@
 // BSDFs, in the order Mitsuba tests them: values against closed forms, sampling against the
-// density (chi-square), energy conservation, reciprocity (ACCURACY.md).
+// density (chi-square), energy conservation, reciprocity (docs/accuracy.md).
 #include <gtest/gtest.h>
 
 #include "bsdf.h"

@@ -186,7 +186,7 @@ TEST(Bvh, EmptySceneMissesEverything) {
 
 TEST(Bvh, AxisAlignedRaysInsideSlabPlanesAreNotCulled) {
     // A ray lying exactly in the plane of a box face (direction component 0, origin on the
-    // face): 0 * inf = NaN in the slab test must not cull the box (ACCURACY.md hard case 2).
+    // face): 0 * inf = NaN in the slab test must not cull the box (docs/accuracy.md hard case 2).
     Scene scene;
     const uint32_t m = test::add_diffuse(scene, Color(0.5f));
     // A flat triangle in the plane y = 0: its box has zero height.

@@ -1,4 +1,4 @@
-// The hard cases of ACCURACY.md, each shown failing with the naive method and passing with the
+// The hard cases of docs/accuracy.md, each shown failing with the naive method and passing with the
 // suite's. Every test prints its figures (naive against robust) as a line "figure: ...";
 // docs/robustness.md quotes them.
 #include <gtest/gtest.h>

@@ -12,7 +12,7 @@
 using namespace lessons;
 
 TEST(RayCasting, LambertianSphereUnderPointLightMatchesClosedFormPerPixel) {
-    // L = rho / pi * I * cos(theta_i) / d^2 on the lit side, 0 on the other (ACCURACY.md).
+    // L = rho / pi * I * cos(theta_i) / d^2 on the lit side, 0 on the other (docs/accuracy.md).
     Scene scene;
     const Color rho(0.2f, 0.5f, 0.8f);
     scene.add_sphere({Vec3(0), 1.0f}, test::add_diffuse(scene, rho));

@@ -1,4 +1,4 @@
-// Every sampling routine against its density: chi-square tests (ACCURACY.md), and finite
+// Every sampling routine against its density: chi-square tests (docs/accuracy.md), and finite
 // outputs at the ends of [0, 1).
 #include <gtest/gtest.h>
 

@@ -45,7 +45,7 @@ TEST(Sphere, SurfaceGeometryIsOnTheSphereWithOutwardNormal) {
 }
 
 TEST(Sphere, StableFormFindsTheSilhouetteOfAFarSmallSphere) {
-    // A unit sphere seen from 1e4 (ACCURACY.md hard case 4): rays aimed at points just inside
+    // A unit sphere seen from 1e4 (docs/accuracy.md hard case 4): rays aimed at points just inside
     // the silhouette must hit; the stable form in double gets every one.
     const Sphere s{Vec3(0), 1.0f};
     Rng rng(3);
@@ -259,7 +259,7 @@ TEST(Triangle, FourAtOnceGiveTheSingleTestsBitsExactly) {
 
 TEST(Triangle, ClosedMeshHasNoCracksAtSharedEdgesAndVertices) {
     // Rays from inside a closed tessellated sphere, aimed exactly at its vertices and at points
-    // on its shared edges: every one must hit some triangle (ACCURACY.md hard case 1).
+    // on its shared edges: every one must hit some triangle (docs/accuracy.md hard case 1).
     Scene scene;
     const uint32_t m = test::add_diffuse(scene, Color(0.5f));
     std::vector<Vec3> vertices;

@@ -1,5 +1,5 @@
 // Rays spawned from a hit must not re-hit the surface they leave, at every scale
-// (ACCURACY.md hard case 3, in the spirit of pbrt-v4's Triangle.Reintersect test).
+// (docs/accuracy.md hard case 3, in the spirit of pbrt-v4's Triangle.Reintersect test).
 #include <gtest/gtest.h>
 
 #include "optics.h"

@@ -57,7 +57,7 @@ void add_glass_box(Scene& scene, const Vec3& lo, const Vec3& hi, uint32_t materi
 
 TEST(Whitted, ClosedGlassSphereInUniformBackgroundRendersOne) {
     // Every path through a non-absorbing dielectric ends in the background: L = 1 exactly
-    // (ACCURACY.md, "dielectric energy balance"). With the depth and attenuation limits lifted,
+    // (docs/accuracy.md, the glass closed form). With the depth and attenuation limits lifted,
     // what is lost is below 1e-7 per branch, so the tolerance is float accumulation, 1e-5.
     Scene scene;
     scene.add_sphere({Vec3(0), 1.0f}, add_glass(scene, 1.5f));
