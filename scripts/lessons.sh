@@ -48,13 +48,19 @@ list_field() { sed -n "s/^  \"$2\": \[\(.*\)\],\{0,1\}$/\1/p" "$1" | sed 's/", "
 # A field of compare's one-line JSON.
 json_number() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1"; }
 
-# Runs: name | lesson | extra flags | label on the chart and in the table.
-RUNS=(
-    "lesson1|01_ray_casting||1 ray casting"
-    "lesson2|02_whitted||2 Whitted"
-    "lesson3|03_reflection_equation|--estimator mis|3 reflection eq. (MIS)"
-    "lesson4|04_rendering_equation||4 rendering eq. (NEE+MIS)"
-    "lesson5|05_bidirectional||5 bidirectional (MIS)"
+# Runs: name | lesson | extra flags | label on the chart and in the table. First every lesson of
+# the registry (chapters/lessons.txt) with its defaults, named lessonN; then the estimators the
+# lessons compare.
+RUNS=()
+LESSONS=()
+while IFS='|' read -r folder label _; do
+    folder="$(echo "$folder" | tr -d ' ')"
+    case "$folder" in [0-9]*) ;; *) continue ;; esac
+    name="lesson$((10#${folder%%_*}))"
+    LESSONS+=("$name")
+    RUNS+=("$name|$folder||$(echo "$label" | sed 's/^ *//; s/ *$//')")
+done < "$ROOT/chapters/lessons.txt"
+RUNS+=(
     "estimator_uniform|03_reflection_equation|--estimator uniform|3 uniform"
     "estimator_cosine|03_reflection_equation|--estimator cosine|3 cosine"
     "estimator_brdf|03_reflection_equation|--estimator brdf|3 BRDF"
@@ -62,7 +68,6 @@ RUNS=(
     "lesson4_plain|04_rendering_equation|--plain|4 plain (no NEE)"
     "lesson5_light_tracing|05_bidirectional|--light-tracing|5 light tracing alone"
 )
-LESSONS=(lesson1 lesson2 lesson3 lesson4 lesson5)
 SCENES=("cornell_spheres|The Cornell box with a mirror and a glass sphere|$SIZE|$SIZE"
         "whitted_1979|Whitted 1979: spheres and checkerboard|$((SIZE * 4 / 3))|$SIZE"
         "kajiya_1986|Kajiya 1986: grey objects, green glass balls, a red base|$((SIZE * 4 / 3))|$SIZE")
@@ -157,7 +162,7 @@ EOF
     sections+="
 <section>
 <h2>$title</h2>
-<h3>The five lessons, ${BUDGET} s each</h3>
+<h3>The ${#LESSONS[@]} lessons, ${BUDGET} s each</h3>
 <div class=\"row\">$lessons_row<figure><img src=\"$scene/reference.png\" alt=\"reference\"><figcaption>reference ($REFERENCE_SPP spp)</figcaption></figure></div>
 <p>The reference: $ref_why; $REFERENCE_SPP samples per pixel, another seed than the runs.</p>
 <h3>Compare any two</h3>

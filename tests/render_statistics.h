@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "app.h"
+#include "render/app.h"
 #include "statistics.h"
 
 namespace lessons::test {

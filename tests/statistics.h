@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "math.h"
+#include "geometry/math.h"
 
 namespace lessons::test {
 

@@ -1,47 +1,60 @@
-// Every shipped scene through every lesson: no NaN and no infinite sample, ever.
+// Every shipped scene through every lesson of the registry (chapters/lessons.txt), with its
+// default flags and with each variant the registry names: no NaN and no infinite sample, ever.
+// Each run is the lesson's own executable, so a new lesson is tested by its one registry line.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
-#include "app.h"
-#include "bidirectional.h"
-#include "ray_casting.h"
-#include "reflection_equation.h"
-#include "rendering_equation.h"
-#include "scene_file.h"
-#include "whitted.h"
+#include "lesson_registry.h"
 
-using namespace lessons;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
 
 TEST(AllScenes, EveryLessonRendersEverySceneWithoutNaNOrInf) {
-    int scenes = 0;
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(
-             std::string(LESSONS_SOURCE_DIR) + "/scenes")) {
+    const fs::path dir =
+        fs::temp_directory_path() / ("lessons_all_scenes_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    int scenes = 0, runs = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(std::string(LESSONS_SOURCE_DIR) +
+                                                              "/scenes")) {
         if (entry.path().extension() != ".toml") continue;
         ++scenes;
-        const Scene scene = load_scene(entry.path().string(), {40, 30});
-        const LightSampler lights(scene);
-        BidirOptions light_tracing;
-        light_tracing.light_tracing = true;
-        const std::vector<std::pair<std::string, Model>> models = {
-            {"01", make_ray_casting_model(scene, {scene.background})},
-            {"02", make_whitted_model(scene, {})},
-            {"03 mis", make_reflection_model(scene, lights, {})},
-            {"03 uniform",
-             make_reflection_model(scene, lights, {Estimator::Uniform, MisHeuristic::Power})},
-            {"04", make_path_tracing_model(scene, lights, {})},
-            {"04 plain", make_path_tracing_model(scene, lights, {false, 0, 3, 0})},
-            {"05", make_bidirectional_model(scene, lights, {})},
-            {"05 light tracing", make_bidirectional_model(scene, lights, light_tracing)},
-        };
-        for (const auto& [name, model] : models) {
-            RenderSettings settings;
-            settings.progress = false;
-            const RenderResult r = render_scene(scene, model, 4, settings);
-            EXPECT_EQ(r.nan_samples, 0u) << name << " on " << entry.path().filename();
-            EXPECT_EQ(r.inf_samples, 0u) << name << " on " << entry.path().filename();
-            EXPECT_EQ(r.nan_pixels + r.inf_pixels, 0) << name << " on " << entry.path().filename();
+        for (const lessons::test::RegisteredLesson& lesson : lessons::test::registered_lessons()) {
+            std::vector<std::string> flag_sets = {""};
+            flag_sets.insert(flag_sets.end(), lesson.variants.begin(), lesson.variants.end());
+            for (const std::string& flags : flag_sets) {
+                const std::string what = lesson.name + " " + flags + " on " +
+                                         entry.path().filename().string();
+                const fs::path report = dir / ("run" + std::to_string(++runs) + ".json");
+                const std::string command = std::string(LESSONS_BIN_DIR) + "/" + lesson.name +
+                                            " --scene " + entry.path().string() +
+                                            " --width 40 --height 30 --spp 4 --quiet " + flags +
+                                            " --out " + (dir / "img").string() + " --report " +
+                                            report.string() + " > /dev/null 2>&1";
+                const int status = std::system(command.c_str());
+                ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << what;
+                const std::string r = read_file(report);
+                for (const char* field : {"\"nan_samples\": 0,", "\"inf_samples\": 0,",
+                                          "\"nan_pixels\": 0,", "\"inf_pixels\": 0,"})
+                    EXPECT_NE(r.find(field), std::string::npos) << field << ": " << what;
+            }
         }
     }
+    fs::remove_all(dir);
     EXPECT_GE(scenes, 7);
 }

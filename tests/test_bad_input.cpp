@@ -12,14 +12,15 @@
 #include <string>
 #include <vector>
 
+#include "lesson_registry.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string kSource = LESSONS_SOURCE_DIR;
 const std::string kBin = LESSONS_BIN_DIR;
-const std::vector<std::string> kLessons = {"01_ray_casting", "02_whitted", "03_reflection_equation",
-                                           "04_rendering_equation", "05_bidirectional"};
+const std::vector<std::string> kLessons = lessons::test::registered_lesson_names();
 
 struct Result {
     int exit_code;

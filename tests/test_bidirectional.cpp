@@ -2,9 +2,9 @@
 #include <gtest/gtest.h>
 
 #include "bidirectional.h"
+#include "io/scene_file.h"
 #include "render_statistics.h"
 #include "rendering_equation.h"
-#include "scene_file.h"
 #include "test_util.h"
 
 using namespace lessons;

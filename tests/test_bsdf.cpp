@@ -2,10 +2,10 @@
 // density (chi-square), energy conservation, reciprocity (docs/accuracy.md).
 #include <gtest/gtest.h>
 
-#include "bsdf.h"
-#include "microfacet.h"
-#include "optics.h"
-#include "rng.h"
+#include "materials/bsdf.h"
+#include "materials/microfacet.h"
+#include "materials/optics.h"
+#include "sampling/rng.h"
 #include "statistics.h"
 #include "test_util.h"
 

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 
-#include "bvh.h"
-#include "scene.h"
+#include "accel/bvh.h"
+#include "scene/scene.h"
 #include "test_util.h"
 
 using namespace lessons;

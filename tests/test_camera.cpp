@@ -1,7 +1,7 @@
 // The pinhole camera: basis, field of view, image orientation.
 #include <gtest/gtest.h>
 
-#include "camera.h"
+#include "render/camera.h"
 
 using namespace lessons;
 

@@ -9,7 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "report.h"
+#include "io/report.h"
+#include "lesson_registry.h"
 
 namespace fs = std::filesystem;
 
@@ -76,8 +77,7 @@ TEST_P(LessonOnScene, RendersWritesImagesAndAReportWithNoNaN) {
 
 INSTANTIATE_TEST_SUITE_P(
     ShippedScenes, LessonOnScene,
-    ::testing::Combine(::testing::Values("01_ray_casting", "02_whitted", "03_reflection_equation",
-                                         "04_rendering_equation", "05_bidirectional"),
+    ::testing::Combine(::testing::ValuesIn(lessons::test::registered_lesson_names()),
                        ::testing::Values("cornell_box", "whitted_1979", "cornell_spheres",
                                          "veach_mis", "quad_light_plane")));
 
@@ -96,9 +96,11 @@ TEST(Cli, BadSceneExitsWithTwoAndOneLineAndWritesNothing) {
 
 TEST(Cli, WhittedFlagsAreCheckedAndDocumented) {
     EXPECT_EQ(run(kBin + "/02_whitted --fresnel approximate").exit_code, 2);
-    EXPECT_EQ(run(kBin + "/02_whitted --max-depth -1").exit_code, 2);
+    EXPECT_EQ(run(kBin + "/02_whitted --max-bounces -1").exit_code, 2);
+    // One meaning per flag: --max-depth counts path segments (lessons 4 and 5), not bounces.
+    EXPECT_EQ(run(kBin + "/02_whitted --max-depth 3").exit_code, 2);
     const RunResult help = run(kBin + "/02_whitted --help");
-    for (const char* flag : {"--max-depth", "--min-attenuation", "--fresnel", "--ambient"})
+    for (const char* flag : {"--max-bounces", "--min-attenuation", "--fresnel", "--ambient"})
         EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
 }
 

@@ -2,10 +2,10 @@
 // The reference is the furnace's closed form (radiance 5 everywhere), which no renderer made.
 #include <gtest/gtest.h>
 
-#include "app.h"
+#include "io/scene_file.h"
 #include "ray_casting.h"
+#include "render/app.h"
 #include "rendering_equation.h"
-#include "scene_file.h"
 
 using namespace lessons;
 

@@ -8,16 +8,16 @@
 #include <limits>
 #include <string>
 
-#include "app.h"
-#include "bvh.h"
-#include "lights.h"
-#include "optics.h"
+#include "accel/bvh.h"
+#include "geometry/spawn.h"
+#include "io/scene_file.h"
+#include "lights/lights.h"
+#include "materials/optics.h"
 #include "ray_casting.h"
 #include "reflection_equation.h"
+#include "render/app.h"
 #include "rendering_equation.h"
-#include "sampling.h"
-#include "scene_file.h"
-#include "spawn.h"
+#include "sampling/sampling.h"
 #include "statistics.h"
 #include "test_util.h"
 

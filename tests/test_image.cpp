@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "film.h"
-#include "image.h"
+#include "io/image.h"
+#include "render/film.h"
 
 using namespace lessons;
 

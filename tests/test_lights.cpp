@@ -2,8 +2,8 @@
 // irradiance against closed forms, one-sidedness, and choice by power.
 #include <gtest/gtest.h>
 
-#include "lights.h"
-#include "sampling.h"
+#include "lights/lights.h"
+#include "sampling/sampling.h"
 #include "statistics.h"
 #include "test_util.h"
 

@@ -8,9 +8,10 @@
 #include <set>
 #include <vector>
 
-#include "bounds.h"
-#include "math.h"
-#include "rng.h"
+#include "accel/simd.h"
+#include "geometry/bounds.h"
+#include "geometry/math.h"
+#include "sampling/rng.h"
 #include "test_util.h"
 
 using namespace lessons;

@@ -1,8 +1,8 @@
 // Error metrics against hand-computed values.
 #include <gtest/gtest.h>
 
-#include "input_error.h"
-#include "metrics.h"
+#include "io/input_error.h"
+#include "render/metrics.h"
 
 using namespace lessons;
 

@@ -1,7 +1,7 @@
 // Reflection, refraction and the Fresnel equations against their closed forms.
 #include <gtest/gtest.h>
 
-#include "optics.h"
+#include "materials/optics.h"
 #include "test_util.h"
 
 using namespace lessons;

@@ -4,9 +4,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "app.h"
+#include "io/scene_file.h"
 #include "ray_casting.h"
-#include "scene_file.h"
+#include "render/app.h"
 #include "test_util.h"
 
 using namespace lessons;

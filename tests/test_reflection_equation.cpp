@@ -3,9 +3,9 @@
 // five estimators agree with each other on the Cornell box.
 #include <gtest/gtest.h>
 
-#include "app.h"
+#include "io/scene_file.h"
 #include "reflection_equation.h"
-#include "scene_file.h"
+#include "render/app.h"
 #include "statistics.h"
 #include "test_util.h"
 

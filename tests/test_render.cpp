@@ -2,10 +2,10 @@
 // are split into passes.
 #include <gtest/gtest.h>
 
-#include "app.h"
+#include "io/scene_file.h"
 #include "ray_casting.h"
-#include "render.h"
-#include "scene_file.h"
+#include "render/app.h"
+#include "render/render.h"
 
 using namespace lessons;
 

@@ -2,11 +2,11 @@
 // Russian roulette, MIS against the plain estimator, and lesson 3 against lesson 4's bounces.
 #include <gtest/gtest.h>
 
-#include "app.h"
+#include "io/scene_file.h"
 #include "reflection_equation.h"
-#include "rendering_equation.h"
-#include "scene_file.h"
+#include "render/app.h"
 #include "render_statistics.h"
+#include "rendering_equation.h"
 #include "test_util.h"
 
 using namespace lessons;

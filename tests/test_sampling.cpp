@@ -2,8 +2,8 @@
 // outputs at the ends of [0, 1).
 #include <gtest/gtest.h>
 
-#include "rng.h"
-#include "sampling.h"
+#include "sampling/rng.h"
+#include "sampling/sampling.h"
 #include "statistics.h"
 
 using namespace lessons;

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "input_error.h"
-#include "mesh_file.h"
-#include "scene_file.h"
+#include "io/input_error.h"
+#include "io/mesh_file.h"
+#include "io/scene_file.h"
 
 using namespace lessons;
 

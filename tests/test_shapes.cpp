@@ -4,10 +4,10 @@
 
 #include <limits>
 
-#include "bvh.h"
-#include "rng.h"
-#include "scene.h"
-#include "shapes.h"
+#include "accel/bvh.h"
+#include "geometry/shapes.h"
+#include "sampling/rng.h"
+#include "scene/scene.h"
 #include "test_util.h"
 
 using namespace lessons;

@@ -2,9 +2,9 @@
 // (docs/accuracy.md hard case 3, in the spirit of pbrt-v4's Triangle.Reintersect test).
 #include <gtest/gtest.h>
 
-#include "optics.h"
-#include "scene.h"
-#include "spawn.h"
+#include "geometry/spawn.h"
+#include "materials/optics.h"
+#include "scene/scene.h"
 #include "test_util.h"
 
 using namespace lessons;

@@ -6,9 +6,9 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "rng.h"
-#include "sampling.h"
-#include "scene.h"
+#include "sampling/rng.h"
+#include "sampling/sampling.h"
+#include "scene/scene.h"
 
 namespace lessons::test {
 

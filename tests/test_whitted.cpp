@@ -2,10 +2,10 @@
 // recursion limits.
 #include <gtest/gtest.h>
 
-#include "app.h"
-#include "optics.h"
+#include "io/scene_file.h"
+#include "materials/optics.h"
 #include "ray_casting.h"
-#include "scene_file.h"
+#include "render/app.h"
 #include "test_util.h"
 #include "whitted.h"
 
@@ -67,7 +67,7 @@ TEST(Whitted, ClosedGlassSphereInUniformBackgroundRendersOne) {
     scene.camera = Camera(Vec3(0, 0.3f, -4), Vec3(0), Vec3(0, 1, 0), 35.0f, 1.0f);
     scene.commit();
     WhittedOptions exact;
-    exact.max_depth = 1000;
+    exact.max_bounces = 1000;
     exact.min_attenuation = 1e-7f;
     const Image image = render_centers(scene, exact);
     int covered = 0;
@@ -97,7 +97,7 @@ TEST(Whitted, GlassSlabAtGrazingAnglesRendersOne) {
     scene.camera = Camera(Vec3(0, 0.25f, -6), Vec3(0, 0, 0), Vec3(0, 1, 0), 8.0f, 3.0f);
     scene.commit();
     WhittedOptions exact;
-    exact.max_depth = 1000;
+    exact.max_bounces = 1000;
     exact.min_attenuation = 1e-7f;
     const Image image = render_centers(scene, exact);
     int covered = 0;
@@ -176,7 +176,7 @@ TEST(Whitted, DepthAndAttenuationLimitsStopRecursionWhereTheySay) {
     const Ray ray{Vec3(0, 0, 0.5f), Vec3(0, 0, 1)};
     for (int depth : {0, 1, 2, 5, 10}) {
         WhittedOptions options;
-        options.max_depth = depth;
+        options.max_bounces = depth;
         options.min_attenuation = 0.0f;
         const uint64_t rays_before = rays_traced_by_this_thread();
         const float L = whitted(scene, ray, options).x;
@@ -185,7 +185,7 @@ TEST(Whitted, DepthAndAttenuationLimitsStopRecursionWhereTheySay) {
     }
     for (float threshold : {0.3f, 0.1f, 0.01f, 1e-3f}) {
         WhittedOptions options;
-        options.max_depth = 1000;
+        options.max_bounces = 1000;
         options.min_attenuation = threshold;
         // The branch after k bounces has weight R^k; it is followed while R^k >= threshold.
         int last = 0;

@@ -34,14 +34,14 @@
 #include <thread>
 #include <vector>
 
-#include "app.h"
-#include "lights.h"
+#include "geometry/spawn.h"
+#include "io/scene_file.h"
+#include "lights/lights.h"
+#include "render/app.h"
 #include "rendering_equation.h"
-#include "rng.h"
-#include "sampling.h"
-#include "scene.h"
-#include "scene_file.h"
-#include "spawn.h"
+#include "sampling/rng.h"
+#include "sampling/sampling.h"
+#include "scene/scene.h"
 
 #ifdef LESSONS_HAVE_EMBREE
 #include <embree3/rtcore.h>

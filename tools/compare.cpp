@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
-#include "input_error.h"
-#include "metrics.h"
+#include "io/image.h"
+#include "io/input_error.h"
+#include "render/metrics.h"
 
 using namespace lessons;
 

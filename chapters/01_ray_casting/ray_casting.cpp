@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "input_error.h"
-#include "spawn.h"
+#include "geometry/spawn.h"
+#include "io/input_error.h"
 
 namespace lessons {
 
@@ -33,8 +33,7 @@ PointSource as_point_source(const AreaLight& light, const Scene& scene, const Ve
         const float r = scene.spheres()[light.prim.index()].radius;
         const Vec3 out = glm::normalize(p - light.center);
         s.intensity = light.radiance * (kPi * r * r);
-        const Vec3 facing_point = light.center + r * out;  // the sphere's point facing p
-        s.shadow_target = {facing_point, gamma_bound(4) * (glm::abs(light.center) + Vec3(r)), out};
+        s.shadow_target = scene.spheres()[light.prim.index()].point_at(out);  // facing p
         return s;
     }
     const float cos_light = glm::dot(light.normal, glm::normalize(p - light.center));
@@ -106,13 +105,28 @@ std::vector<std::string> local_material_notes(const Scene& scene) {
                             "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
                             "absorbs nothing); no refraction, no reflection");
         if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
-            notes.push_back("material '" + m.name + "' (" + material_type_name(m.type) +
-                            ", roughness " + std::to_string(m.roughness) +
-                            "): Blinn-Phong highlight, exponent " +
-                            std::to_string(blinn_phong_exponent(m.roughness)) +
-                            "; no glossy reflection of other surfaces");
+            notes.push_back(glossy_as_highlight_note(m));
     }
     return notes;
+}
+
+std::string glossy_as_highlight_note(const Material& m) {
+    return "material '" + m.name + "' (" + material_type_name(m.type) + ", roughness " +
+           std::to_string(m.roughness) + "): Blinn-Phong highlight, exponent " +
+           std::to_string(blinn_phong_exponent(m.roughness)) +
+           "; no glossy reflection of other surfaces";
+}
+
+std::string area_lights_as_points_note(const Scene& scene) {
+    return std::to_string(scene.area_lights().size()) +
+           " emissive primitive(s): each treated as a point source at its centre with intensity "
+           "L_e A cos(theta) (spheres L_e pi r^2) for shadow rays; hard shadows, no soft penumbra";
+}
+
+std::string ambient_note(const Color& ambient) {
+    return "indirect light ignored; a constant ambient radiance L_a = " + rgb(ambient) +
+           " stands in for it (--ambient): it lights every diffuse point alike, in shadow or "
+           "not, from no direction";
 }
 
 Color direct_local(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
@@ -163,15 +177,9 @@ Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& option
     model.radiance = [&scene, options](const Ray& ray, Rng&) {
         return ray_cast(scene, ray, options);
     };
-    if (!scene.area_lights().empty())
-        model.notes.push_back(std::to_string(scene.area_lights().size()) +
-                              " emissive primitive(s): each treated as a point source at its "
-                              "centre with intensity L_e A cos(theta) (spheres L_e pi r^2); hard "
-                              "shadows, no soft penumbra");
+    if (!scene.area_lights().empty()) model.notes.push_back(area_lights_as_points_note(scene));
     for (const std::string& n : local_material_notes(scene)) model.notes.push_back(n);
-    model.notes.push_back("indirect light ignored; a constant ambient radiance L_a = " +
-                          rgb(options.ambient) + " stands in for it (--ambient): it lights "
-                          "every diffuse point alike, in shadow or not, from no direction");
+    model.notes.push_back(ambient_note(options.ambient));
     model.biased_because.push_back(
         "a local model: light arriving from other surfaces (indirect light, reflections, "
         "refraction) is missing, and the ambient term is a constant guess for it");

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "app.h"
-#include "bsdf.h"
-#include "scene.h"
+#include "materials/bsdf.h"
+#include "render/app.h"
+#include "scene/scene.h"
 
 namespace lessons {
 
@@ -29,6 +29,10 @@ struct LocalMaterial {
 // How the local model reads each material type; appends a note for each approximation.
 LocalMaterial local_material(const Material& m, const Vec2& uv);
 std::vector<std::string> local_material_notes(const Scene& scene);
+// The notes lesson 2 shares, as it shares the shading they describe.
+std::string glossy_as_highlight_note(const Material& m);
+std::string area_lights_as_points_note(const Scene& scene);
+std::string ambient_note(const Color& ambient);
 
 // Direct light from every light in the scene, each treated as a point source, with one shadow
 // ray each: the sum over lights of f * I cos / d^2 * V.

@@ -16,8 +16,9 @@ int main(int argc, char** argv) {
     lesson.default_spp = 4;
     lesson.add_options = [&](CLI::App& app) {
         add_ambient_option(app, ambient);
-        app.add_option("--max-depth", options.max_depth,
-                       "Maximum number of specular bounces after the camera ray")
+        app.add_option("--max-bounces", options.max_bounces,
+                       "Maximum number of specular bounces after the camera ray (0: none; lessons "
+                       "4 and 5 count path segments with --max-depth instead)")
             ->check(CLI::Range(0, 1000))
             ->capture_default_str();
         app.add_option("--min-attenuation", options.min_attenuation,

@@ -3,8 +3,8 @@
 
 #include <cstdio>
 
-#include "optics.h"
-#include "spawn.h"
+#include "geometry/spawn.h"
+#include "materials/optics.h"
 
 namespace lessons {
 
@@ -16,7 +16,7 @@ namespace {
 Color follow(const Scene& scene, const SurfaceInteraction& si, const Vec3& dir, const Color& weight,
              const WhittedOptions& options, int depth, const Color& attenuation) {
     const Color branch_attenuation = attenuation * weight;
-    if (depth + 1 > options.max_depth) return Color(0.0f);
+    if (depth + 1 > options.max_bounces) return Color(0.0f);
     if (max_component(branch_attenuation) < options.min_attenuation) return Color(0.0f);
     return weight * whitted(scene, spawn_ray(si.surface_point(), dir), options, depth + 1,
                             branch_attenuation);
@@ -79,18 +79,14 @@ Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
     std::snprintf(limits, sizeof limits,
                   "specular recursion stops after %d bounces or below attenuation %g; stopped "
                   "rays contribute nothing",
-                  options.max_depth, options.min_attenuation);
+                  options.max_bounces, options.min_attenuation);
     model.notes.push_back(limits);
     if (!scene.area_lights().empty())
-        model.notes.push_back(std::to_string(scene.area_lights().size()) +
-                              " emissive primitive(s): point sources at their centres for "
-                              "shadow rays, as in lesson 1; seen directly and in mirrors as "
-                              "surfaces");
+        model.notes.push_back(area_lights_as_points_note(scene) +
+                              "; seen directly and in mirrors as surfaces");
     for (const Material& m : scene.materials())
         if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
-            model.notes.push_back("material '" + m.name + "' (" + material_type_name(m.type) +
-                                  "): Blinn-Phong highlight only; no glossy reflection of other "
-                                  "surfaces");
+            model.notes.push_back(glossy_as_highlight_note(m));
     bool has_glass = false, has_specular = false;
     for (const Material& m : scene.materials()) {
         has_glass |= m.type == MaterialType::Glass;
@@ -103,12 +99,7 @@ Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
                               "caustics)");
     if (!has_specular)
         model.notes.push_back("no mirror or glass in this scene: the image equals lesson 1's");
-    char ambient[120];
-    std::snprintf(ambient, sizeof ambient,
-                  "indirect diffuse light ignored; ambient radiance L_a = (%g, %g, %g) stands in "
-                  "for it (--ambient)",
-                  options.ambient.x, options.ambient.y, options.ambient.z);
-    model.notes.push_back(ambient);
+    model.notes.push_back(ambient_note(options.ambient));
     if (has_specular && !scene.point_lights().empty())
         model.notes.push_back(
             "point lights are never seen in mirrors or glass (a reflected ray never hits a "

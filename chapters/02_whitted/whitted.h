@@ -14,15 +14,15 @@
 // ray contributes nothing.
 #pragma once
 
-#include "app.h"
 #include "ray_casting.h"
-#include "scene.h"
+#include "render/app.h"
+#include "scene/scene.h"
 
 namespace lessons {
 
 struct WhittedOptions {
     Color ambient{0.0f};            // L_a at diffuse hits, as in lesson 1
-    int max_depth = 12;             // specular bounces after the camera ray
+    int max_bounces = 12;           // specular bounces after the camera ray
     float min_attenuation = 1e-4f;  // stop when every channel of the path weight is below this
     bool schlick = false;           // Schlick's Fresnel approximation instead of the exact form
 };

@@ -1,9 +1,9 @@
 // Lesson 3: the reflection equation by Monte Carlo (see reflection_equation.h).
 #include "reflection_equation.h"
 
-#include "bsdf.h"
-#include "input_error.h"
-#include "sampling.h"
+#include "io/input_error.h"
+#include "materials/bsdf.h"
+#include "sampling/sampling.h"
 
 namespace lessons {
 

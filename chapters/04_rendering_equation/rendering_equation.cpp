@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "reflection_equation.h"
-#include "sampling.h"
+#include "sampling/sampling.h"
 
 namespace lessons {
 

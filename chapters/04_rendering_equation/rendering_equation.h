@@ -26,10 +26,10 @@
 
 #include <span>
 
-#include "app.h"
-#include "bsdf.h"
-#include "lights.h"
-#include "scene.h"
+#include "lights/lights.h"
+#include "materials/bsdf.h"
+#include "render/app.h"
+#include "scene/scene.h"
 
 namespace lessons {
 

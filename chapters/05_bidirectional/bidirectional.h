@@ -19,11 +19,11 @@
 #include <span>
 #include <vector>
 
-#include "app.h"
 #include "connect.h"
-#include "lights.h"
-#include "render.h"
-#include "scene.h"
+#include "lights/lights.h"
+#include "render/app.h"
+#include "render/render.h"
+#include "scene/scene.h"
 
 namespace lessons {
 

@@ -40,6 +40,7 @@ Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
         light.infinite = true;
         light.pdf_fwd = ls->pdf;
     }
+    light.pdf_light_sample = light_sample_density(b, light, z);
     // f L cos / p_light, times the camera side's beta.
     return z.beta * f * ls->radiance * (z.bsdf->abs_cos(ls->wi) / ls->pdf);
 }

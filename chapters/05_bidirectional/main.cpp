@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "bidirectional.h"
-#include "input_error.h"
+#include "io/input_error.h"
 
 int main(int argc, char** argv) {
     using namespace lessons;

@@ -60,7 +60,7 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // start: strategy 1 has it in place of p_L(x_0), and the ratios between strategies 0, 1 and 2
     // swap it in and out.
     const double sampled_x0 =
-        n >= 3 ? nonzero(light_sample_density(b, x(0), x(1))) : nonzero(d[0].from_light);
+        n >= 3 ? nonzero(x(0).pdf_light_sample) : nonzero(d[0].from_light);
     const double started_x0 = nonzero(d[0].from_light);
     auto from_light = [&](int i, int strategy) {
         return i == 0 && strategy == 1 ? sampled_x0 : nonzero(d[i].from_light);

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "rendering_equation.h"
-#include "sampling.h"
+#include "sampling/sampling.h"
 
 namespace lessons {
 
@@ -102,6 +102,7 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
                 sky.p = ray.dir;
                 sky.beta = beta;
                 sky.pdf_fwd = pdf_dir;  // per steradian: a vertex at infinity has no area
+                sky.pdf_light_sample = light_sample_density(b, sky, path.back());
                 path.push_back(sky);
             }
             return;
@@ -113,6 +114,9 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
         v.bsdf.emplace(b.scene.material(v.si.material), v.si);
         v.beta = beta;
         v.pdf_fwd = to_area_density(pdf_dir, path.back(), v);
+        if (transport == Transport::Radiance && path.back().type == VertexType::Surface &&
+            b.scene.material(v.si.material).is_emissive())
+            v.pdf_light_sample = light_sample_density(b, v, path.back());
         path.push_back(v);
         Vertex& here = path.back();
         Vertex& before = path[path.size() - 2];
@@ -180,6 +184,7 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
     const float cos_q = light.point_light ? 1.0f : std::fabs(glm::dot(e->normal, e->ray.dir));
     random_walk(b, e->ray, light.beta * (cos_q / e->pdf_dir), e->pdf_dir, rng, max_vertices,
                 roulette_after, Transport::Importance, path);
+    if (path.size() >= 2) path[0].pdf_light_sample = light_sample_density(b, path[0], path[1]);
 }
 
 }  // namespace lessons

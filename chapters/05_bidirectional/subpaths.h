@@ -13,10 +13,10 @@
 #include <optional>
 #include <vector>
 
-#include "bsdf.h"
-#include "lights.h"
-#include "rng.h"
-#include "scene.h"
+#include "lights/lights.h"
+#include "materials/bsdf.h"
+#include "sampling/rng.h"
+#include "scene/scene.h"
 
 namespace lessons {
 
@@ -46,6 +46,9 @@ struct Vertex {
     Color beta{0.0f};
     bool delta = false;  // scattered by a mirror or glass: no connection is made here
     float pdf_fwd = 0.0f, pdf_rev = 0.0f;
+    // On a light: the density with which a light sample taken at its neighbour on the path (the
+    // vertex after it, towards the camera) picks it (light_sample_density), for the weights.
+    float pdf_light_sample = 0.0f;
 
     SurfacePoint surface_point() const { return {p, si.p_error, n}; }
     // Whether a strategy may join a segment to this vertex: not at a mirror or glass, and not at

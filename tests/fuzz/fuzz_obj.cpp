@@ -8,8 +8,8 @@
 #include <fstream>
 #include <string>
 
-#include "input_error.h"
-#include "mesh_file.h"
+#include "io/input_error.h"
+#include "io/mesh_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace lessons;

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string>
 
-#include "input_error.h"
-#include "scene_file.h"
+#include "io/input_error.h"
+#include "io/scene_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace lessons;

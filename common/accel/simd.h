@@ -1,0 +1,47 @@
+// SIMD lanes for the 4-wide shape tests and the 8-wide BVH: vector types (GCC/Clang vector
+// extensions) and the masks their comparisons give.
+#pragma once
+
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
+
+namespace lessons {
+
+// Four floats in one SSE register (GCC/Clang vector extension): arithmetic and comparisons act on
+// all four lanes at once, for a leaf's four triangles or quads.
+using Float4 = float __attribute__((vector_size(16)));
+// Eight floats in one AVX register, for the BVH's eight boxes.
+using Float8 = float __attribute__((vector_size(32)));
+
+// A vector comparison gives -1 (all bits set) in each lane where it holds, else 0. lane_bits
+// gathers them as bit i for lane i, for a loop over the lanes that hold: on x86 the movmskps
+// instruction reads the lanes' sign bits (one for four lanes; for eight, one with AVX, two
+// without); elsewhere a loop.
+using Mask4 = decltype(Float4{} < Float4{});
+using Mask8 = decltype(Float8{} < Float8{});
+template <class Mask, int kLanes>
+inline unsigned lane_bits_by_loop(const Mask& m) {
+    unsigned bits = 0;
+    for (int i = 0; i < kLanes; ++i) bits |= static_cast<unsigned>(m[i] & 1) << i;
+    return bits;
+}
+inline unsigned lane_bits(const Mask4& m) {
+#if defined(__SSE__)
+    return static_cast<unsigned>(_mm_movemask_ps(reinterpret_cast<__m128>(m)));
+#else
+    return lane_bits_by_loop<Mask4, 4>(m);
+#endif
+}
+inline unsigned lane_bits(const Mask8& m) {
+#if defined(__AVX__)
+    return static_cast<unsigned>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+#elif defined(__SSE__)
+    const Mask4 low = {m[0], m[1], m[2], m[3]}, high = {m[4], m[5], m[6], m[7]};
+    return lane_bits(low) | lane_bits(high) << 4;
+#else
+    return lane_bits_by_loop<Mask8, 8>(m);
+#endif
+}
+
+}  // namespace lessons

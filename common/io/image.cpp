@@ -1,0 +1,124 @@
+// Image output through tinyexr (linear EXR) and stb_image_write (sRGB PNG).
+#include "io/image.h"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+#include <tinyexr.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+namespace lessons {
+
+float srgb_encode(float linear) {
+    if (linear <= 0.0031308f) return 12.92f * linear;
+    return 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+void rename_into_place(const std::string& tmp, const std::string& path) {
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw std::runtime_error(path + ": cannot write (rename from temporary failed)");
+    }
+}
+
+void write_exr(const Image& image, const std::string& path) {
+    write_atomically(path, [&](const std::string& tmp) {
+        // Check that the file can be created first: tinyexr 1.0.1 leaks its header buffers when
+        // it cannot open the file, and this message names the reason.
+        if (std::FILE* f = std::fopen(tmp.c_str(), "wb")) {
+            std::fclose(f);
+        } else {
+            throw std::runtime_error(path + ": cannot write EXR: " + std::strerror(errno));
+        }
+        const char* err = nullptr;
+        const int rc = SaveEXR(reinterpret_cast<const float*>(image.pixels.data()), image.width,
+                               image.height, 3, /*save_as_fp16=*/0, tmp.c_str(), &err);
+        if (rc != TINYEXR_SUCCESS) {
+            std::string msg = path + ": cannot write EXR";
+            if (err) {
+                msg += std::string(": ") + err;
+                FreeEXRErrorMessage(err);
+            }
+            std::remove(tmp.c_str());
+            throw std::runtime_error(msg);
+        }
+    });
+}
+
+void write_png(const Image& image, const std::string& path, float exposure_stops) {
+    const float scale = std::exp2(exposure_stops);
+    std::vector<uint8_t> bytes(static_cast<size_t>(image.width) * image.height * 3);
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        for (int c = 0; c < 3; ++c) {
+            float v = image.pixels[i][c] * scale;
+            v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
+            bytes[3 * i + c] = static_cast<uint8_t>(std::lround(255.0f * srgb_encode(v)));
+        }
+    }
+    write_atomically(path, [&](const std::string& tmp) {
+        if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, bytes.data(),
+                            image.width * 3)) {
+            std::remove(tmp.c_str());
+            throw std::runtime_error(path + ": cannot write PNG");
+        }
+    });
+}
+
+float srgb_decode(float v) {
+    if (v <= 0.04045f) return v / 12.92f;
+    return std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+void write_png_bytes(const std::string& path, int width, int height,
+                     const std::vector<uint8_t>& rgb) {
+    write_atomically(path, [&](const std::string& tmp) {
+        if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3)) {
+            std::remove(tmp.c_str());
+            throw std::runtime_error(path + ": cannot write PNG");
+        }
+    });
+}
+
+Image read_image(const std::string& path) {
+    const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    if (ext != ".png" && ext != ".PNG") return read_exr(path);
+    int w = 0, h = 0, channels = 0;
+    unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+    if (!data) {
+        const char* why = stbi_failure_reason();
+        throw std::runtime_error(path + ": cannot read PNG" + (why ? std::string(": ") + why : ""));
+    }
+    Image image(w, h);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) image.pixels[i][c] = srgb_decode(data[3 * i + c] / 255.0f);
+    stbi_image_free(data);
+    return image;
+}
+
+Image read_exr(const std::string& path) {
+    float* rgba = nullptr;
+    int w = 0, h = 0;
+    const char* err = nullptr;
+    if (LoadEXR(&rgba, &w, &h, path.c_str(), &err) != TINYEXR_SUCCESS) {
+        std::string msg = path + ": cannot read EXR";
+        if (err) {
+            msg += std::string(": ") + err;
+            FreeEXRErrorMessage(err);
+        }
+        throw std::runtime_error(msg);
+    }
+    Image image(w, h);
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        image.pixels[i] = Color(rgba[4 * i], rgba[4 * i + 1], rgba[4 * i + 2]);
+    std::free(rgba);
+    return image;
+}
+
+}  // namespace lessons

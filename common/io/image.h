@@ -1,0 +1,54 @@
+// Linear RGB images, and writing them as linear EXR (radiance) and sRGB PNG (for looking at).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/math.h"
+
+namespace lessons {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<Color> pixels;  // row-major, top row first
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), pixels(static_cast<size_t>(w) * h, Color(0.0f)) {}
+    Color& at(int x, int y) { return pixels[static_cast<size_t>(y) * width + x]; }
+    const Color& at(int x, int y) const { return pixels[static_cast<size_t>(y) * width + x]; }
+};
+
+// The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
+float srgb_encode(float linear);
+
+// Writes 32-bit float linear RGB. Throws std::runtime_error on failure.
+void write_exr(const Image& image, const std::string& path);
+// Writes an 8-bit sRGB PNG of the image scaled by 2^exposure_stops: each linear channel is
+// multiplied by the exposure, clamped to [0, 1] (values above 1 saturate to white), encoded with
+// the sRGB curve and rounded to the nearest of 256 levels. Throws std::runtime_error on failure.
+void write_png(const Image& image, const std::string& path, float exposure_stops = 0.0f);
+// Reads an EXR's RGB channels. Throws std::runtime_error naming the file on failure.
+Image read_exr(const std::string& path);
+// Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
+Image read_image(const std::string& path);
+// The inverse of srgb_encode.
+float srgb_decode(float encoded);
+// Writes 8-bit RGB bytes (already display-encoded, e.g. a colour map) as a PNG, atomically.
+void write_png_bytes(const std::string& path, int width, int height,
+                     const std::vector<uint8_t>& rgb);
+
+// Writes a file atomically: `write(tmp)` writes a temporary beside `path`, which is then renamed
+// over it, so a crash or interruption never leaves a half-written file in place of a good one.
+template <class WriteFn>
+void write_atomically(const std::string& path, WriteFn&& write);
+void rename_into_place(const std::string& tmp, const std::string& path);
+
+template <class WriteFn>
+void write_atomically(const std::string& path, WriteFn&& write) {
+    const std::string tmp = path + ".tmp";
+    write(tmp);
+    rename_into_place(tmp, path);
+}
+
+}  // namespace lessons

@@ -1,0 +1,161 @@
+// OBJ loading: tinyobjloader parses; we validate, de-duplicate vertices and map MTL materials.
+//
+// MTL mapping (Wavefront illumination models): Ke -> emission; illum 3 or 5 (ray-traced
+// reflection) -> mirror with reflectance Ks; illum 4, 6, 7 or 9 or dissolve d < 1 (transparency)
+// -> glass with ior Ni; otherwise diffuse with albedo Kd.
+#include "io/mesh_file.h"
+
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "io/input_error.h"
+
+namespace lessons {
+
+namespace {
+
+Color clamp_unit(const float c[3]) {
+    return glm::clamp(Color(c[0], c[1], c[2]), Color(0.0f), Color(1.0f));
+}
+
+Material from_mtl(const tinyobj::material_t& mtl) {
+    Material m;
+    m.name = mtl.name;
+    m.emission = glm::max(Color(mtl.emission[0], mtl.emission[1], mtl.emission[2]), Color(0.0f));
+    const int illum = mtl.illum;
+    if (illum == 4 || illum == 6 || illum == 7 || illum == 9 || mtl.dissolve < 1.0f) {
+        m.type = MaterialType::Glass;
+        // tinyobjloader reads a missing Ni as 1, which would make the glass invisible.
+        m.ior = (mtl.ior > 0.0f && mtl.ior != 1.0f) ? mtl.ior : 1.5f;
+    } else if (illum == 3 || illum == 5) {
+        m.type = MaterialType::Mirror;
+        m.reflectance = clamp_unit(mtl.specular);
+    } else {
+        m.type = MaterialType::Diffuse;
+        m.albedo.value = clamp_unit(mtl.diffuse);
+    }
+    return m;
+}
+
+// tinyobjloader reads "nan" or "inf" as 0 without a word; check vertex data ourselves first, so
+// a bad value is an error that names its line.
+void check_vertex_numbers(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, 0, "", "cannot open the OBJ file (permissions?)");
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        std::istringstream fields(line);
+        std::string keyword;
+        fields >> keyword;
+        if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
+        for (std::string token; fields >> token;) {
+            char* end = nullptr;
+            const double x = std::strtod(token.c_str(), &end);
+            if (end == token.c_str() || *end != '\0')
+                throw InputError(path, number, keyword, "'" + token + "' is not a number");
+            if (!std::isfinite(x) || std::fabs(x) > 1e9)
+                throw InputError(path, number, keyword,
+                                 "'" + token + "' is not a finite coordinate");
+        }
+    }
+}
+
+}  // namespace
+
+MeshData load_obj(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "OBJ file not found");
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(path, 0, "", "is a directory, not an OBJ file");
+    check_vertex_numbers(path);
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = std::filesystem::path(path).parent_path().string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(path, config)) {
+        std::string err = reader.Error();
+        while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+        throw InputError(path, 0, "", "cannot read OBJ: " + (err.empty() ? "unknown error" : err));
+    }
+    std::istringstream warnings(reader.Warning());
+    for (std::string line; std::getline(warnings, line);)
+        if (!line.empty()) std::cerr << "warning: " << path << ": " << line << "\n";
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    MeshData mesh;
+    for (const tinyobj::material_t& m : reader.GetMaterials())
+        mesh.materials.push_back(from_mtl(m));
+
+    for (size_t i = 0; i < attrib.vertices.size(); ++i)
+        if (!std::isfinite(attrib.vertices[i]))
+            throw InputError(
+                path, 0, "v",
+                "vertex " + std::to_string(i / 3 + 1) + " has a non-finite coordinate");
+
+    const bool has_normals = !attrib.normals.empty();
+    const bool has_uvs = !attrib.texcoords.empty();
+    std::map<std::tuple<int, int, int>, uint32_t> vertex_of;
+    auto vertex = [&](const tinyobj::index_t& idx) -> uint32_t {
+        const int vi = idx.vertex_index;
+        const int ni = has_normals ? idx.normal_index : -1;
+        const int ti = has_uvs ? idx.texcoord_index : -1;
+        if (vi < 0 || 3 * static_cast<size_t>(vi) + 2 >= attrib.vertices.size())
+            throw InputError(
+                path, 0, "f",
+                "face refers to vertex " + std::to_string(vi + 1) + ", which does not exist");
+        const auto key = std::make_tuple(vi, ni, ti);
+        if (auto it = vertex_of.find(key); it != vertex_of.end()) return it->second;
+        const uint32_t id = static_cast<uint32_t>(mesh.positions.size());
+        mesh.positions.emplace_back(attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
+                                    attrib.vertices[3 * vi + 2]);
+        if (has_normals) {
+            Vec3 n(0.0f);
+            if (ni >= 0 && 3 * static_cast<size_t>(ni) + 2 < attrib.normals.size())
+                n = Vec3(attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
+                         attrib.normals[3 * ni + 2]);
+            const float len = glm::length(n);
+            mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f));
+        }
+        if (has_uvs) {
+            Vec2 uv(0.0f);
+            if (ti >= 0 && 2 * static_cast<size_t>(ti) + 1 < attrib.texcoords.size())
+                uv = Vec2(attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]);
+            mesh.uvs.push_back(uv);
+        }
+        vertex_of.emplace(key, id);
+        return id;
+    };
+
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        const auto& indices = shape.mesh.indices;
+        for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+            if (shape.mesh.num_face_vertices[f] != 3) continue;  // lines or points
+            MeshData::Face face;
+            for (int k = 0; k < 3; ++k) face.v[k] = vertex(indices[3 * f + k]);
+            const int mat = shape.mesh.material_ids.empty() ? -1 : shape.mesh.material_ids[f];
+            face.material = (mat >= 0 && mat < static_cast<int>(mesh.materials.size())) ? mat : -1;
+            const Vec3 &a = mesh.positions[face.v[0]], &b = mesh.positions[face.v[1]],
+                       &c = mesh.positions[face.v[2]];
+            const Vec3 n = glm::cross(b - a, c - a);
+            if (!(glm::dot(n, n) > 0.0f)) {
+                ++mesh.skipped_degenerate;
+                continue;
+            }
+            mesh.faces.push_back(face);
+        }
+    }
+    if (mesh.faces.empty())
+        throw InputError(path, 0, "f", "the OBJ file has no triangles with non-zero area");
+    return mesh;
+}
+
+}  // namespace lessons

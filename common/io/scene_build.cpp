@@ -1,0 +1,164 @@
+// Stage 2 of scene loading: SceneDescription -> Scene.
+#include <cmath>
+#include <iostream>
+#include <map>
+
+#include "io/input_error.h"
+#include "io/mesh_file.h"
+#include "io/scene_file.h"
+
+namespace lessons {
+
+namespace {
+
+void add_polygon_mesh(Scene& scene, const ShapeDescription& s, uint32_t material) {
+    std::vector<Triangle> triangles;
+    int degenerate = 0;
+    for (const auto& face : s.faces) {
+        // Convex planar polygons are split into a fan of triangles around their first vertex.
+        for (size_t k = 1; k + 1 < face.size(); ++k) {
+            const Vec3 &a = s.vertices[face[0]], &b = s.vertices[face[k]],
+                       &c = s.vertices[face[k + 1]];
+            const Vec3 n = glm::cross(b - a, c - a);
+            if (!(glm::dot(n, n) > 0.0f)) {
+                ++degenerate;
+                continue;
+            }
+            triangles.push_back({{face[0], face[k], face[k + 1]}, material, false});
+        }
+    }
+    if (degenerate > 0)
+        std::cerr << "warning: " << s.where.file << ":" << s.where.line << ": " << s.where.field
+                  << ": skipped " << degenerate << " zero-area triangle(s)\n";
+    if (triangles.empty())
+        throw InputError(s.where.file, s.where.line, s.where.field + ".faces",
+                         "every face has zero area");
+    scene.add_mesh(s.vertices, {}, {}, triangles);
+}
+
+void add_obj_mesh(Scene& scene, const ShapeDescription& s,
+                  const std::map<std::string, uint32_t>& material_ids, int override_material) {
+    MeshData mesh;
+    try {
+        mesh = load_obj(s.file);
+    } catch (const InputError& e) {
+        // Name both the OBJ problem and the scene line that asked for the file.
+        throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
+    }
+    if (mesh.skipped_degenerate > 0)
+        std::cerr << "warning: " << s.file << ": skipped " << mesh.skipped_degenerate
+                  << " zero-area triangle(s)\n";
+    // MTL materials: a scene material of the same name wins; otherwise the MTL's own values.
+    std::vector<uint32_t> mtl_to_scene(mesh.materials.size());
+    for (size_t i = 0; i < mesh.materials.size(); ++i) {
+        auto it = material_ids.find(mesh.materials[i].name);
+        mtl_to_scene[i] =
+            it != material_ids.end() ? it->second : scene.add_material(mesh.materials[i]);
+    }
+    std::vector<Triangle> triangles;
+    triangles.reserve(mesh.faces.size());
+    for (const MeshData::Face& f : mesh.faces) {
+        uint32_t material;
+        if (override_material >= 0) {
+            material = static_cast<uint32_t>(override_material);
+        } else if (f.material >= 0) {
+            material = mtl_to_scene[f.material];
+        } else {
+            throw InputError(s.where.file, s.where.line, s.where.field + ".material",
+                             "missing: " + s.file +
+                                 " has faces without a usable material (no usemtl, or a name "
+                                 "its MTL file does not define); give the mesh a material");
+        }
+        triangles.push_back({{f.v[0], f.v[1], f.v[2]}, material, true});
+    }
+    scene.add_mesh(mesh.positions, mesh.normals, mesh.uvs, triangles);
+}
+
+}  // namespace
+
+std::array<Quad, 6> box_faces(const ShapeDescription& b) {
+    // The rotation about y by t: x' = cos t x + sin t z, z' = -sin t x + cos t z (right-handed,
+    // turning +z towards +x); its determinant is 1, so outward faces stay outward.
+    const double t = b.rotate_y * (3.14159265358979323846 / 180.0);
+    const double c = std::cos(t), s = std::sin(t);
+    auto rotate = [&](const glm::dvec3& p) {
+        return glm::dvec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
+    };
+    const glm::dvec3 size = b.box_max - b.box_min;
+    const glm::dvec3 dx = rotate({size.x, 0.0, 0.0}), dy = rotate({0.0, size.y, 0.0}),
+                     dz = rotate({0.0, 0.0, size.z});
+    const glm::dvec3 lo = rotate(b.box_min) + b.translate;  // the corner at box_min
+    // Each face: corner, edge_u, edge_v with cross(edge_u, edge_v) pointing out of the box.
+    auto face = [](const glm::dvec3& corner, const glm::dvec3& u, const glm::dvec3& v) {
+        return Quad(Vec3(corner), Vec3(u), Vec3(v));
+    };
+    return {
+        face(lo, dz, dy),       // x = min.x, normal -x: cross(z, y) = -x
+        face(lo + dx, dy, dz),  // x = max.x, normal +x
+        face(lo, dx, dz),       // y = min.y, normal -y: cross(x, z) = -y
+        face(lo + dy, dz, dx),  // y = max.y, normal +y
+        face(lo, dy, dx),       // z = min.z, normal -z
+        face(lo + dz, dx, dy),  // z = max.z, normal +z
+    };
+}
+
+Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
+    Scene scene;
+    scene.source = d.file;
+    scene.width = options.width > 0 ? options.width : d.width;
+    scene.height = options.height > 0 ? options.height : d.height;
+    scene.background = d.background;
+    scene.camera = Camera(d.camera_position, d.camera_look_at, d.camera_up, d.camera_fov,
+                          static_cast<float>(scene.width) / static_cast<float>(scene.height));
+
+    std::map<std::string, uint32_t> material_ids;
+    std::vector<std::string> material_names;
+    for (const MaterialDescription& m : d.materials) {
+        material_ids[m.material.name] = scene.add_material(m.material);
+        material_names.push_back(m.material.name);
+    }
+    auto resolve = [&](const ShapeDescription& s) -> int {
+        if (s.material.empty()) return -1;
+        auto it = material_ids.find(s.material);
+        if (it != material_ids.end()) return static_cast<int>(it->second);
+        std::string message =
+            "undefined material '" + s.material + "'" + did_you_mean(s.material, material_names);
+        if (material_names.empty()) message += " (the scene defines no [materials.*])";
+        throw InputError(s.material_where.file, s.material_where.line, s.material_where.field,
+                         message);
+    };
+
+    for (const ShapeDescription& s : d.shapes) {
+        const int material = resolve(s);
+        switch (s.type) {
+            case ShapeDescription::Type::Sphere:
+                scene.add_sphere({s.center, s.radius}, static_cast<uint32_t>(material));
+                break;
+            case ShapeDescription::Type::Quad:
+                scene.add_quad(Quad(s.corner, s.edge_u, s.edge_v), static_cast<uint32_t>(material));
+                break;
+            case ShapeDescription::Type::Box:
+                for (const Quad& q : box_faces(s))
+                    scene.add_quad(q, static_cast<uint32_t>(material));
+                break;
+            case ShapeDescription::Type::Mesh:
+                if (s.file.empty())
+                    add_polygon_mesh(scene, s, static_cast<uint32_t>(material));
+                else
+                    add_obj_mesh(scene, s, material_ids, material);
+                break;
+        }
+    }
+    for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
+    // A camera inside a closed shape sees only its inside. That can be meant (the furnace), so
+    // it is a warning, not an error.
+    for (const ShapeDescription& s : d.shapes)
+        if (s.type == ShapeDescription::Type::Sphere &&
+            glm::length(d.camera_position - s.center) < s.radius)
+            std::cerr << "warning: " << s.where.file << ":" << s.where.line << ": " << s.where.field
+                      << ": the camera is inside this sphere; the image shows its inside\n";
+    scene.commit();
+    return scene;
+}
+
+}  // namespace lessons

@@ -1,0 +1,518 @@
+// Stage 1 of scene loading: TOML text -> SceneDescription, with every value checked.
+#include "io/scene_file.h"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "io/input_error.h"
+
+namespace lessons {
+
+namespace {
+
+// The value of a number node (integer or float) as a double.
+double as_number(const toml::node& n) {
+    if (n.is_integer()) return static_cast<double>(*n.value<int64_t>());
+    return *n.value<double>();
+}
+
+// Reads the fields of one TOML table, remembering which were used, so that anything left over
+// (a typo, a field of another material type) is refused with a suggestion.
+class TableReader {
+public:
+    TableReader(const toml::table& table, const std::string& file, std::string path)
+        : table_(table), file_(file), path_(std::move(path)) {}
+
+    std::string field(std::string_view key) const {
+        return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+    }
+    int line_of(const toml::node& n) const { return static_cast<int>(n.source().begin.line); }
+    int line() const { return line_of(table_); }
+    SourceLocation where(std::string_view key) const {
+        const toml::node* n = table_.get(key);
+        return {file_, n ? line_of(*n) : line(), field(key)};
+    }
+    [[noreturn]] void fail(std::string_view key, const std::string& message) const {
+        const SourceLocation w = where(key);
+        throw InputError(w.file, w.line, w.field, message);
+    }
+
+    bool has(std::string_view key) const { return table_.contains(key); }
+
+    const toml::node& require(std::string_view key) {
+        const toml::node* n = table_.get(key);
+        if (!n) {
+            std::string message =
+                "missing (required in " + (path_.empty() ? "the scene" : path_) + ")";
+            // A key already read as another field (a box's min, when max is missing) is no typo.
+            std::vector<std::string> present;
+            for (const auto& [k, v] : table_)
+                if (!used_.count(std::string(k.str()))) present.emplace_back(k.str());
+            const std::string typo = closest_match(std::string(key), present);
+            if (!typo.empty()) message += "; found '" + typo + "': a typo?";
+            throw InputError(file_, line(), field(key), message);
+        }
+        used_.insert(std::string(key));
+        return *n;
+    }
+
+    double number(std::string_view key) {
+        const toml::node& n = require(key);
+        if (!n.is_number()) fail(key, "expected a number, got " + type_name(n));
+        const double v = as_number(n);
+        if (!std::isfinite(v)) fail(key, "must be finite, got " + std::to_string(v));
+        return v;
+    }
+    double number(std::string_view key, double fallback) {
+        return has(key) ? number(key) : fallback;
+    }
+    double number_in(std::string_view key, double lo, double hi, bool lo_open, bool hi_open,
+                     std::optional<double> fallback = std::nullopt) {
+        if (fallback && !has(key)) return *fallback;
+        const double v = number(key);
+        const bool ok = (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+        if (!ok) {
+            std::ostringstream s;
+            s << "must be in " << (lo_open ? "(" : "[") << lo << ", " << hi << (hi_open ? ")" : "]")
+              << ", got " << v;
+            fail(key, s.str());
+        }
+        return v;
+    }
+    int integer_in(std::string_view key, int lo, int hi) {
+        const toml::node& n = require(key);
+        if (!n.is_integer()) fail(key, "expected an integer, got " + type_name(n));
+        const int64_t v = *n.value<int64_t>();
+        if (v < lo || v > hi)
+            fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
+                          ", got " + std::to_string(v));
+        return static_cast<int>(v);
+    }
+    std::string string(std::string_view key) {
+        const toml::node& n = require(key);
+        if (!n.is_string()) fail(key, "expected a string, got " + type_name(n));
+        return std::string(*n.value<std::string>());
+    }
+    bool boolean(std::string_view key, bool fallback) {
+        if (!has(key)) return fallback;
+        const toml::node& n = require(key);
+        if (!n.is_boolean()) fail(key, "expected true or false, got " + type_name(n));
+        return *n.value<bool>();
+    }
+
+    // [x, y, z] as written in the file (double), checked finite and at most 1e9 in magnitude.
+    glm::dvec3 dvec3_of(const toml::node& n, std::string_view key) const {
+        const toml::array* a = n.as_array();
+        if (!a || a->size() != 3)
+            fail(key, "expected an array of 3 numbers, got " +
+                          (a ? "an array of " + std::to_string(a->size()) : type_name(n)));
+        glm::dvec3 v;
+        for (int i = 0; i < 3; ++i) {
+            const toml::node& c = *a->get(static_cast<size_t>(i));
+            if (!c.is_number())
+                fail(key, "element " + std::to_string(i) + " is " + type_name(c) +
+                              ", expected a number");
+            const double x = as_number(c);
+            if (!std::isfinite(x))
+                fail(key,
+                     "element " + std::to_string(i) + " must be finite, got " + std::to_string(x));
+            if (std::fabs(x) > kMaxCoordinate)
+                fail(key, "element " + std::to_string(i) +
+                              " is too large for single precision "
+                              "geometry (|x| must be at most 1e9)");
+            v[i] = x;
+        }
+        return v;
+    }
+    Vec3 vec3_of(const toml::node& n, std::string_view key) const { return Vec3(dvec3_of(n, key)); }
+    glm::dvec3 dvec3(std::string_view key) { return dvec3_of(require(key), key); }
+    glm::dvec3 dvec3(std::string_view key, const glm::dvec3& fallback) {
+        return has(key) ? dvec3(key) : fallback;
+    }
+    Vec3 vec3(std::string_view key) { return vec3_of(require(key), key); }
+    Vec3 vec3(std::string_view key, const Vec3& fallback) {
+        return has(key) ? vec3(key) : fallback;
+    }
+    Vec3 nonzero_vec3(std::string_view key) {
+        const Vec3 v = vec3(key);
+        if (glm::dot(v, v) == 0.0f) fail(key, "must not be the zero vector");
+        return v;
+    }
+    // A non-negative RGB value; `at_most_one` for reflectances (energy conservation).
+    Color color_of(const toml::node& n, std::string_view key, bool at_most_one) const {
+        const Color c = vec3_of(n, key);
+        if (min_component(c) < 0.0f) fail(key, "must not be negative");
+        if (at_most_one && max_component(c) > 1.0f)
+            fail(key,
+                 "must be at most 1 in every channel: a surface cannot reflect more light "
+                 "than it receives");
+        return c;
+    }
+    Color color(std::string_view key, bool at_most_one) {
+        return color_of(require(key), key, at_most_one);
+    }
+    Color color(std::string_view key, bool at_most_one, const Color& fallback) {
+        return has(key) ? color(key, at_most_one) : fallback;
+    }
+
+    const toml::table& table(std::string_view key) {
+        const toml::node& n = require(key);
+        if (!n.is_table()) fail(key, "expected a table, got " + type_name(n));
+        return *n.as_table();
+    }
+    const toml::array& array(std::string_view key) {
+        const toml::node& n = require(key);
+        if (!n.is_array()) fail(key, "expected an array, got " + type_name(n));
+        return *n.as_array();
+    }
+
+    // Refuses every field that was not read. `elsewhere` names fields that are valid in another
+    // context (e.g. "ior" belongs to glass materials), to explain instead of just refusing.
+    void reject_unknown(const std::vector<std::string>& allowed, const std::string& context,
+                        const std::vector<std::pair<std::string, std::string>>& elsewhere = {}) {
+        for (const auto& [key, node] : table_) {
+            const std::string k(key.str());
+            if (used_.count(k)) continue;
+            const int l = line_of(node);
+            for (const auto& [name, owner] : elsewhere)
+                if (name == k)
+                    throw InputError(
+                        file_, l, field(k),
+                        "not a field of " + context + " (it belongs to " + owner + ")");
+            const std::string message =
+                "unknown field in " + context + did_you_mean(k, allowed) + known_names(allowed);
+            throw InputError(file_, l, field(k), message);
+        }
+    }
+
+    static std::string type_name(const toml::node& n) {
+        switch (n.type()) {
+            case toml::node_type::string: return "a string";
+            case toml::node_type::integer: return "an integer";
+            case toml::node_type::floating_point: return "a number";
+            case toml::node_type::boolean: return "a boolean";
+            case toml::node_type::array: return "an array";
+            case toml::node_type::table: return "a table";
+            default: return "a date or time";
+        }
+    }
+
+private:
+    const toml::table& table_;
+    std::string file_;
+    std::string path_;
+    std::set<std::string> used_;
+};
+
+ColorTexture parse_albedo(TableReader& r, std::string_view key) {
+    const toml::node& n = r.require(key);
+    ColorTexture tex;
+    if (!n.is_table()) {
+        tex.value = r.color_of(n, key, true);
+        return tex;
+    }
+    TableReader checker(*n.as_table(), r.where(key).file, r.field(key));
+    const toml::array& colors = checker.array("checker");
+    if (colors.size() != 2)
+        checker.fail("checker",
+                     "expected two colours [[even], [odd]], got " + std::to_string(colors.size()));
+    tex.checker = true;
+    tex.value = checker.color_of(*colors.get(0), "checker", true);
+    tex.odd = checker.color_of(*colors.get(1), "checker", true);
+    const toml::array& cells = checker.array("cells");
+    if (cells.size() != 2 || !cells.get(0)->is_integer() || !cells.get(1)->is_integer())
+        checker.fail("cells", "expected two integers [cells along u, cells along v]");
+    for (int i = 0; i < 2; ++i) {
+        const int64_t c = *cells.get(static_cast<size_t>(i))->value<int64_t>();
+        if (c < 1 || c > 100000) checker.fail("cells", "must be between 1 and 100000");
+        tex.cells[i] = static_cast<float>(c);
+    }
+    checker.reject_unknown({"checker", "cells"}, "a checker albedo");
+    return tex;
+}
+
+const std::vector<std::pair<std::string, std::string>> kMaterialFieldOwners = {
+    {"albedo", "diffuse and glossy materials"},
+    {"specular", "glossy and conductor materials"},
+    {"roughness", "glossy and conductor materials"},
+    {"reflectance", "mirror materials"},
+    {"ior", "glass materials"},
+    {"transmittance", "glass materials"}};
+
+MaterialDescription parse_material(const toml::table& t, const std::string& file,
+                                   const std::string& name) {
+    TableReader r(t, file, "materials." + name);
+    MaterialDescription d;
+    d.where = {file, r.line(), "materials." + name};
+    Material& m = d.material;
+    m.name = name;
+    const std::string type = r.string("type");
+    m.emission = r.color("emission", false, Color(0.0f));
+    m.two_sided = r.boolean("two_sided", false);
+    std::vector<std::string> allowed = {"type", "emission", "two_sided"};
+    if (type == "diffuse") {
+        m.type = MaterialType::Diffuse;
+        // An emitter may leave its albedo out (it reflects nothing); any other surface must say.
+        if (r.has("albedo") || !m.is_emissive()) m.albedo = parse_albedo(r, "albedo");
+        allowed.push_back("albedo");
+    } else if (type == "glossy") {
+        m.type = MaterialType::Glossy;
+        if (r.has("albedo")) m.albedo = parse_albedo(r, "albedo");
+        m.specular = r.color("specular", true, Color(1.0f));
+        m.roughness = static_cast<float>(r.number_in("roughness", 0.0, 1.0, true, false));
+        // Energy conservation: the diffuse base and the lobe share what the surface receives.
+        const Color base = glm::max(m.albedo.value, m.albedo.checker ? m.albedo.odd : Color(0.0f));
+        if (max_component(base + m.specular) > 1.0f)
+            r.fail(r.has("specular") ? "specular" : "albedo",
+                   "albedo + specular must be at most 1 in every channel (a surface cannot "
+                   "reflect more light than it receives); lower specular (default 1)");
+        allowed.insert(allowed.end(), {"albedo", "specular", "roughness"});
+    } else if (type == "conductor") {
+        m.type = MaterialType::Conductor;
+        m.specular = r.color("specular", true);
+        m.roughness = static_cast<float>(r.number_in("roughness", 0.0, 1.0, true, false));
+        allowed.insert(allowed.end(), {"specular", "roughness"});
+    } else if (type == "mirror") {
+        m.type = MaterialType::Mirror;
+        m.reflectance = r.color("reflectance", true, Color(1.0f));
+        allowed.push_back("reflectance");
+    } else if (type == "glass") {
+        m.type = MaterialType::Glass;
+        m.ior = static_cast<float>(r.number_in("ior", 0.0, 10.0, true, false, 1.5));
+        m.transmittance = r.color("transmittance", true, Color(1.0f));
+        allowed.insert(allowed.end(), {"ior", "transmittance"});
+    } else {
+        const std::vector<std::string> types = {"diffuse", "glossy", "conductor", "mirror",
+                                                "glass"};
+        r.fail("type", "unknown material type '" + type + "'" + did_you_mean(type, types) +
+                           known_names(types));
+    }
+    r.reject_unknown(allowed, "a " + type + " material", kMaterialFieldOwners);
+    return d;
+}
+
+ShapeDescription parse_shape(const toml::table& t, const std::string& file, size_t index) {
+    const std::string path = "shapes[" + std::to_string(index) + "]";
+    TableReader r(t, file, path);
+    ShapeDescription s;
+    s.where = {file, r.line(), path};
+    const std::string type = r.string("type");
+    std::vector<std::string> allowed = {"type", "material"};
+    if (r.has("material") || type != "mesh") {
+        s.material = r.string("material");
+        s.material_where = r.where("material");
+        if (s.material.empty()) r.fail("material", "must name a material, got an empty string");
+    }
+    if (type == "sphere") {
+        s.type = ShapeDescription::Type::Sphere;
+        s.center = r.vec3("center");
+        s.radius = static_cast<float>(r.number_in("radius", 0.0, kMaxCoordinate, true, false));
+        allowed.insert(allowed.end(), {"center", "radius"});
+    } else if (type == "quad") {
+        s.type = ShapeDescription::Type::Quad;
+        s.corner = r.vec3("corner");
+        s.edge_u = r.nonzero_vec3("edge_u");
+        s.edge_v = r.nonzero_vec3("edge_v");
+        const Vec3 n = glm::cross(s.edge_u, s.edge_v);
+        if (!(glm::dot(n, n) > 0.0f))
+            r.fail("edge_v", "is parallel to edge_u: the quad has no area");
+        allowed.insert(allowed.end(), {"corner", "edge_u", "edge_v"});
+    } else if (type == "box") {
+        s.type = ShapeDescription::Type::Box;
+        s.box_min = r.dvec3("min");
+        s.box_max = r.dvec3("max");
+        for (int i = 0; i < 3; ++i)
+            if (!(s.box_max[i] > s.box_min[i])) {
+                std::ostringstream m;
+                m << "must be greater than min on every axis; on "
+                  << "xyz"[i] << ", max = " << s.box_max[i] << " <= min = " << s.box_min[i];
+                r.fail("max", m.str());
+            }
+        s.rotate_y = r.number("rotate_y", 0.0);
+        s.translate = r.dvec3("translate", glm::dvec3(0.0));
+        // The faces as they will be built: still within single-precision reach, and not so thin
+        // that an edge rounds to nothing.
+        for (const Quad& q : box_faces(s)) {
+            for (const Vec3& p : {q.corner, q.corner + q.edge_u, q.corner + q.edge_v,
+                                  q.corner + q.edge_u + q.edge_v})
+                if (max_component(glm::abs(p)) > kMaxCoordinate)
+                    r.fail(r.has("translate") ? "translate" : "max",
+                           "the rotated and moved box is too large for single precision "
+                           "geometry (|x| must be at most 1e9)");
+            if (!(q.area() > 0.0f))
+                r.fail("max", "the box is too thin for single precision: a face has no area");
+        }
+        allowed.insert(allowed.end(), {"min", "max", "rotate_y", "translate"});
+    } else if (type == "mesh") {
+        s.type = ShapeDescription::Type::Mesh;
+        allowed.insert(allowed.end(), {"file", "vertices", "faces"});
+        if (r.has("file")) {
+            if (r.has("vertices") || r.has("faces"))
+                r.fail("file", "give either a file or inline vertices and faces, not both");
+            const std::filesystem::path rel = r.string("file");
+            s.file_where = r.where("file");
+            s.file = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
+                         .lexically_normal()
+                         .string();
+        } else {
+            if (!r.has("vertices") && !r.has("faces"))
+                r.fail("file", "missing: a mesh needs a file, or inline vertices and faces");
+            const toml::array& vertices = r.array("vertices");
+            for (size_t i = 0; i < vertices.size(); ++i)
+                s.vertices.push_back(r.vec3_of(*vertices.get(i), "vertices"));
+            const toml::array& faces = r.array("faces");
+            for (size_t i = 0; i < faces.size(); ++i) {
+                const toml::array* f = faces.get(i)->as_array();
+                const std::string which = "face " + std::to_string(i);
+                if (!f || f->size() < 3)
+                    r.fail("faces", which + ": expected an array of at least 3 vertex indices");
+                std::vector<uint32_t> face;
+                for (size_t k = 0; k < f->size(); ++k) {
+                    const toml::node& v = *f->get(k);
+                    if (!v.is_integer()) r.fail("faces", which + ": indices must be integers");
+                    const int64_t idx = *v.value<int64_t>();
+                    if (idx < 0 || idx >= static_cast<int64_t>(s.vertices.size()))
+                        r.fail("faces", which + ": index " + std::to_string(idx) +
+                                            " is outside 0.." +
+                                            std::to_string(s.vertices.size() - 1));
+                    face.push_back(static_cast<uint32_t>(idx));
+                }
+                s.faces.push_back(std::move(face));
+            }
+            if (s.faces.empty()) r.fail("faces", "a mesh needs at least one face");
+            if (s.material.empty()) r.require("material");  // inline meshes have no MTL
+        }
+    } else {
+        const std::vector<std::string> types = {"sphere", "quad", "box", "mesh"};
+        r.fail("type",
+               "unknown shape type '" + type + "'" + did_you_mean(type, types) + known_names(types));
+    }
+    r.reject_unknown(allowed, "a " + type);
+    return s;
+}
+
+SceneDescription parse_table(const toml::table& root, const std::string& file) {
+    SceneDescription d;
+    d.file = file;
+    TableReader top(root, file, "");
+
+    if (top.has("description")) d.description = top.string("description");
+
+    const toml::table& image_table = top.table("image");
+    TableReader image(image_table, file, "image");
+    d.width = image.integer_in("width", 1, kMaxImageSide);
+    d.height = image.integer_in("height", 1, kMaxImageSide);
+    image.reject_unknown({"width", "height"}, "[image]");
+
+    const toml::table& camera_table = top.table("camera");
+    TableReader camera(camera_table, file, "camera");
+    d.camera_where = {file, camera.line(), "camera"};
+    d.camera_position = camera.vec3("position");
+    d.camera_look_at = camera.vec3("look_at");
+    d.camera_up = camera.has("up") ? camera.nonzero_vec3("up") : Vec3(0.0f, 1.0f, 0.0f);
+    d.camera_fov = static_cast<float>(camera.number_in("fov", 0.0, 180.0, true, true));
+    const Vec3 forward = d.camera_look_at - d.camera_position;
+    if (glm::dot(forward, forward) == 0.0f)
+        camera.fail("look_at", "equals position: the camera looks nowhere");
+    const Vec3 side = glm::cross(glm::normalize(forward), glm::normalize(d.camera_up));
+    if (glm::dot(side, side) < 1e-10f)
+        camera.fail("up", "is parallel to the viewing direction (look_at - position)");
+    camera.reject_unknown({"position", "look_at", "up", "fov"}, "[camera]");
+
+    if (top.has("background")) {
+        TableReader bg(top.table("background"), file, "background");
+        d.background = bg.color("radiance", false);
+        bg.reject_unknown({"radiance"}, "[background]");
+    }
+
+    if (top.has("materials")) {
+        for (const auto& [key, node] : top.table("materials")) {
+            const std::string name(key.str());
+            if (!node.is_table())
+                throw InputError(file, static_cast<int>(node.source().begin.line),
+                                 "materials." + name,
+                                 "expected a table [materials." + name + "] with a type");
+            d.materials.push_back(parse_material(*node.as_table(), file, name));
+        }
+    }
+
+    if (top.has("shapes")) {
+        const toml::array& shapes = top.array("shapes");
+        for (size_t i = 0; i < shapes.size(); ++i) {
+            const toml::table* t = shapes.get(i)->as_table();
+            if (!t)
+                throw InputError(file, static_cast<int>(shapes.get(i)->source().begin.line),
+                                 "shapes[" + std::to_string(i) + "]",
+                                 "expected a table ([[shapes]])");
+            d.shapes.push_back(parse_shape(*t, file, i));
+        }
+    }
+
+    if (top.has("lights")) {
+        const toml::array& lights = top.array("lights");
+        for (size_t i = 0; i < lights.size(); ++i) {
+            const std::string path = "lights[" + std::to_string(i) + "]";
+            const toml::table* t = lights.get(i)->as_table();
+            if (!t)
+                throw InputError(file, static_cast<int>(lights.get(i)->source().begin.line), path,
+                                 "expected a table ([[lights]])");
+            TableReader l(*t, file, path);
+            const std::string type = l.string("type");
+            if (type != "point") {
+                const std::vector<std::string> types = {"point"};
+                l.fail("type", "unknown light type '" + type + "'" + did_you_mean(type, types) +
+                                   " (known: point; area lights are shapes with an "
+                                   "emissive material)");
+            }
+            PointLightDescription p;
+            p.where = {file, l.line(), path};
+            p.light.position = l.vec3("position");
+            p.light.intensity = l.color("intensity", false);
+            l.reject_unknown({"type", "position", "intensity"}, "a point light");
+            d.point_lights.push_back(p);
+        }
+    }
+
+    top.reject_unknown(
+        {"description", "image", "camera", "background", "materials", "shapes", "lights"},
+        "the scene");
+    if (d.shapes.empty() && d.point_lights.empty())
+        throw InputError(file, 0, "shapes", "the scene is empty: no shapes and no lights");
+    return d;
+}
+
+}  // namespace
+
+SceneDescription parse_scene_string(const std::string& text, const std::string& name) {
+    toml::table root;
+    try {
+        root = toml::parse(text, name);
+    } catch (const toml::parse_error& e) {
+        throw InputError(name, static_cast<int>(e.source().begin.line), "",
+                         "TOML syntax error: " + std::string(e.description()));
+    }
+    return parse_table(root, name);
+}
+
+SceneDescription parse_scene_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "scene file not found");
+    if (std::filesystem::is_directory(path, ec))
+        throw InputError(path, 0, "", "is a directory, not a scene file");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, 0, "", "cannot open the scene file (permissions?)");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_scene_string(text.str(), path);
+}
+
+Scene load_scene(const std::string& path, const BuildOptions& options) {
+    return build_scene(parse_scene_file(path), options);
+}
+
+}  // namespace lessons

@@ -1,0 +1,97 @@
+// Scene files (TOML), loaded in two stages, as Mitsuba does:
+//   1. parse_scene_file: TOML -> SceneDescription, plain data, every value checked for type and
+//      range, every unknown field refused (with a "did you mean"), every error located at
+//      file:line and named by its field;
+//   2. build_scene: SceneDescription -> Scene: materials resolved by name, OBJ meshes loaded,
+//      the BVH built.
+// The format is documented field by field, with units, in docs/scene-format.md.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/math.h"
+#include "materials/material.h"
+#include "scene/scene.h"
+
+namespace lessons {
+
+// Where a value came from, for error messages.
+struct SourceLocation {
+    std::string file;
+    int line = 0;
+    std::string field;  // dotted path, e.g. "materials.red.albedo" or "shapes[2].radius"
+};
+
+struct MaterialDescription {
+    Material material;
+    SourceLocation where;
+};
+
+struct ShapeDescription {
+    enum class Type { Sphere, Quad, Box, Mesh } type = Type::Sphere;
+    std::string material;  // may be empty for an OBJ mesh whose faces name MTL materials
+    SourceLocation where;
+    SourceLocation material_where;
+    // sphere
+    Vec3 center{0.0f};
+    float radius = 1.0f;
+    // quad
+    Vec3 corner{0.0f}, edge_u{0.0f}, edge_v{0.0f};
+    // box: the axis-aligned box [box_min, box_max], turned about the y axis by rotate_y degrees,
+    // then moved by translate. Kept in double, as written in the file, until box_faces.
+    glm::dvec3 box_min{0.0}, box_max{1.0}, translate{0.0};
+    double rotate_y = 0.0;
+    // mesh: either a file, or inline vertices and polygonal faces
+    std::string file;  // resolved relative to the scene file's folder
+    SourceLocation file_where;
+    std::vector<Vec3> vertices;
+    std::vector<std::vector<uint32_t>> faces;
+};
+
+struct PointLightDescription {
+    PointLight light;
+    SourceLocation where;
+};
+
+struct SceneDescription {
+    std::string file;
+    std::string description;
+    int width = 0, height = 0;
+    Vec3 camera_position{0.0f}, camera_look_at{0.0f, 0.0f, 1.0f}, camera_up{0.0f, 1.0f, 0.0f};
+    float camera_fov = 45.0f;
+    SourceLocation camera_where;
+    Color background{0.0f};
+    std::vector<MaterialDescription> materials;
+    std::vector<ShapeDescription> shapes;
+    std::vector<PointLightDescription> point_lights;
+};
+
+// A box shape as its six faces, each a quad whose front side, cross(edge_u, edge_v), faces out
+// of the box. With t = rotate_y, a point p of [box_min, box_max] goes to
+//   (cos t p.x + sin t p.z,  p.y,  -sin t p.x + cos t p.z) + translate,
+// computed in double; each corner and edge is rounded to single precision once.
+std::array<Quad, 6> box_faces(const ShapeDescription& box);
+
+// Stage 1. Throws InputError.
+SceneDescription parse_scene_file(const std::string& path);
+SceneDescription parse_scene_string(const std::string& toml_text, const std::string& name);
+
+struct BuildOptions {
+    int width = 0, height = 0;  // override the file's image size when > 0
+};
+
+// Stage 2. Throws InputError. Warnings (e.g. skipped degenerate triangles) go to stderr.
+Scene build_scene(const SceneDescription& description, const BuildOptions& options = {});
+
+// Both stages.
+Scene load_scene(const std::string& path, const BuildOptions& options = {});
+
+// Limits on what a scene may ask for (images larger would not fit in memory here).
+inline constexpr int kMaxImageSide = 16384;
+// Largest coordinate or radius: single-precision cross products of edges this long still fit.
+inline constexpr double kMaxCoordinate = 1e9;
+
+}  // namespace lessons

@@ -1,0 +1,333 @@
+// Light selection by power, and sampling each kind of light (see lights.h).
+#include "lights/lights.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sampling/sampling.h"
+
+namespace lessons {
+
+namespace {
+
+// Emitted power, W (luminance), which sets how often a light is chosen.
+float power_of(const AreaLight& light) {
+    // A Lambertian emitter of radiance L and area A sends pi L A from each emitting side.
+    const float sides = light.two_sided ? 2.0f : 1.0f;
+    return kPi * luminance(light.radiance) * light.area * sides;
+}
+
+// 1 - cos(theta_max) of the cone a sphere subtends, sin^2(theta_max) = r^2 / d^2, written as
+// sin^2 / (1 + cos) so that small, far spheres keep their precision.
+float cone_one_minus_cos(float sin2_max) {
+    return sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
+}
+
+}  // namespace
+
+LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
+    std::vector<float> power;
+    for (uint32_t i = 0; i < scene.point_lights().size(); ++i) {
+        // An isotropic point source of intensity I sends 4 pi I.
+        const float p = 4.0f * kPi * luminance(scene.point_lights()[i].intensity);
+        light_of_point_.push_back(SIZE_MAX);
+        if (!(p > 0.0f) || !std::isfinite(p)) continue;
+        light_of_point_.back() = lights_.size();
+        lights_.push_back({Kind::Point, i});
+        power.push_back(p);
+        has_point_lights_ = true;
+    }
+    for (uint32_t i = 0; i < scene.area_lights().size(); ++i) {
+        const AreaLight& light = scene.area_lights()[i];
+        rectangles_.push_back(std::nullopt);
+        if (light.rectangle) {
+            const Quad& quad = scene.quads()[light.prim.index()];
+            rectangles_.back().emplace(quad.corner, quad.edge_u, quad.edge_v);
+        }
+        const float p = power_of(light);
+        if (!(p > 0.0f) || !std::isfinite(p)) continue;
+        light_of_primitive_[light.prim.bits] = lights_.size();
+        lights_.push_back({Kind::Area, i});
+        power.push_back(p);
+    }
+    if (!is_black(scene.background)) {
+        // A uniform environment of radiance L sends, from every direction, the radiance L
+        // through the disk of area pi R^2 that the scene's bounding sphere (radius R) shows
+        // that direction: pi R^2 L per steradian, over 4 pi steradians, power 4 pi^2 R^2 L.
+        // Only the ratios of the powers matter (they set how often each light is chosen, never
+        // the image's mean): the weight used is a quarter of that power, pi^2 R^2 L, so the sky
+        // is chosen less often than its power alone would say.
+        const Bounds3 b = scene.bounds();
+        const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
+        environment_ = lights_.size();
+        lights_.push_back({Kind::Environment, 0});
+        power.push_back(kPi * kPi * r * r * luminance(scene.background));
+    }
+    double total = 0.0;
+    for (float p : power) total += p;
+    double running = 0.0;
+    for (float p : power) {
+        running += p;
+        cdf_.push_back(static_cast<float>(running / total));
+    }
+    if (!cdf_.empty()) cdf_.back() = 1.0f;
+}
+
+size_t LightSampler::choose_light(float u_choose) const {
+    return std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(),
+                            lights_.size() - 1);
+}
+
+float LightSampler::choice_probability(size_t light) const {
+    return cdf_[light] - (light > 0 ? cdf_[light - 1] : 0.0f);
+}
+
+float LightSampler::environment_pdf() const {
+    return environment_ ? choice_probability(*environment_) * uniform_sphere_pdf() : 0.0f;
+}
+
+std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_choose,
+                                                const Vec2& u) const {
+    if (lights_.empty()) return std::nullopt;
+    const size_t light = choose_light(u_choose);
+    const float choose = choice_probability(light);
+    if (!(choose > 0.0f)) return std::nullopt;
+    const Entry& e = lights_[light];
+    std::optional<LightSample> s;
+    switch (e.kind) {
+        case Kind::Point: {
+            const PointLight& l = scene_.point_lights()[e.index];
+            const Vec3 d = l.position - at.p;
+            const float d2 = glm::dot(d, d);
+            if (!(d2 > 0.0f)) return std::nullopt;
+            // Irradiance from a point source facing it: E = I / d^2.
+            s = LightSample{l.intensity / d2,
+                            d / std::sqrt(d2),
+                            std::sqrt(d2),
+                            1.0f,
+                            true,
+                            spawn_ray_to(at, l.position),
+                            std::nullopt};
+            break;
+        }
+        case Kind::Area: s = sample_area(e.index, at, u); break;
+        case Kind::Environment: {
+            const Vec3 wi = sample_uniform_sphere(u);
+            s = LightSample{scene_.background, wi,          kInfinity, uniform_sphere_pdf(), false,
+                            spawn_ray(at, wi), std::nullopt};
+            break;
+        }
+    }
+    if (!s) return std::nullopt;
+    s->pdf *= choose;
+    return s;
+}
+
+std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const SurfacePoint& at,
+                                                     const Vec2& u) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
+    Vec3 q, n_q, q_error;
+    float pdf_solid_angle = 0.0f;
+    const PrimRef prim = light.prim;
+    bool by_area = prim.kind() != ShapeKind::Sphere;  // else pdf_solid_angle is set below
+    if (prim.kind() == ShapeKind::Sphere) {
+        const Sphere& s = scene_.spheres()[prim.index()];
+        const Vec3 to_center = s.center - at.p;
+        const float d2 = glm::dot(to_center, to_center);
+        const float r2 = s.radius * s.radius;
+        if (d2 <= r2 * 1.0001f) {
+            // From inside (or on) the sphere, sample its whole area: p_A = 1 / (4 pi r^2).
+            const SurfacePoint on = point_by_area(area_light, u);
+            q = on.p;
+            n_q = on.n;
+            const Vec3 d = q - at.p;
+            pdf_solid_angle = area_to_solid_angle_pdf(1.0f / s.area(), glm::dot(d, d),
+                                                      glm::dot(n_q, glm::normalize(-d)));
+        } else {
+            // The sphere subtends a cone of half-angle theta_max, sin(theta_max) = r / d. Pick a
+            // direction uniformly in it, then the point where it first meets the sphere: seen
+            // from the center, at angle alpha from the axis, with
+            //   cos(alpha) = sin^2(theta) / sin(theta_max) + cos(theta) sqrt(1 - sin^2(theta) /
+            //   sin^2(theta_max)).
+            const float sin2_max = r2 / d2;
+            const float sin_max = std::sqrt(sin2_max);
+            const float one_minus_cos_max = cone_one_minus_cos(sin2_max);
+            const float one_minus_cos = u.x * one_minus_cos_max;
+            const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
+            const float cos_theta = 1.0f - one_minus_cos;
+            const float cos_alpha =
+                sin2 / sin_max + cos_theta * std::sqrt(std::max(0.0f, 1.0f - sin2 / sin2_max));
+            const float sin_alpha = std::sqrt(std::max(0.0f, 1.0f - cos_alpha * cos_alpha));
+            const float phi = 2.0f * kPi * u.y;
+            const Frame frame(glm::normalize(to_center));
+            // The point's normal points back towards the shading point's side of the sphere.
+            n_q = glm::normalize(frame.to_world(
+                -Vec3(sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha)));
+            q = s.point_at(n_q).p;
+            pdf_solid_angle = uniform_cone_pdf(one_minus_cos_max);
+        }
+        q_error = s.point_at(n_q).error;
+    } else {
+        Vec2 ab = u;  // a quad's edge coordinates of the point, uniform by area
+        if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
+            const SphericalRectangle rect(at.p, *rectangle);
+            if (rect.well_conditioned()) {
+                ab = rect.sample(u);  // uniform in solid angle instead
+                pdf_solid_angle = spherical_rectangle_pdf(rect);
+                by_area = false;
+            }
+        }
+        const SurfacePoint on = point_by_area(area_light, ab);
+        q = on.p;
+        n_q = on.n;
+        q_error = on.error;
+    }
+
+    Vec3 d = q - at.p;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.0f)) return std::nullopt;
+    const float distance = std::sqrt(d2);
+    const Vec3 wi = d / distance;
+    float cos_light = glm::dot(n_q, -wi);  // > 0: the light's front faces the point
+    if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);  // the textbook slip
+    if (cos_light <= 0.0f && !light.two_sided) return std::nullopt;       // one-sided: dark behind
+    if (by_area) pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
+    if (!(pdf_solid_angle > 0.0f) || !std::isfinite(pdf_solid_angle)) return std::nullopt;
+    return LightSample{light.radiance,
+                       wi,
+                       distance,
+                       pdf_solid_angle,
+                       false,
+                       spawn_ray_between(at, {q, q_error, n_q}),
+                       prim,
+                       q,
+                       n_q};
+}
+
+SurfacePoint LightSampler::point_by_area(uint32_t area_light, const Vec2& u) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
+    const PrimRef prim = light.prim;
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: {
+            const Sphere& s = scene_.spheres()[prim.index()];
+            return s.point_at(sample_uniform_sphere(u));
+        }
+        case ShapeKind::Quad: {
+            const Quad& quad = scene_.quads()[prim.index()];
+            return {quad.corner + u.x * quad.edge_u + u.y * quad.edge_v,
+                    gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(u.x * quad.edge_u) +
+                                      glm::abs(u.y * quad.edge_v)),
+                    quad.normal};
+        }
+        case ShapeKind::Triangle: {
+            const Triangle& t = scene_.triangles()[prim.index()];
+            const Vec3 &p0 = scene_.positions()[t.v[0]], &p1 = scene_.positions()[t.v[1]],
+                       &p2 = scene_.positions()[t.v[2]];
+            const Vec2 b = sample_uniform_triangle(u);
+            const float b0 = 1.0f - b.x - b.y;
+            return {b0 * p0 + b.x * p1 + b.y * p2,
+                    gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b.x * p1) + glm::abs(b.y * p2)),
+                    light.normal};
+        }
+    }
+    return {};
+}
+
+std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, const Vec2& u_point,
+                                                            const Vec2& u_dir) const {
+    if (lights_.empty()) return std::nullopt;
+    const size_t light = choose_light(u_choose);
+    const float choose = choice_probability(light);
+    if (!(choose > 0.0f)) return std::nullopt;
+    if (lights_[light].kind == Kind::Point) {
+        const PointLight& l = scene_.point_lights()[lights_[light].index];
+        const Vec3 w = sample_uniform_sphere(u_dir);
+        return EmissionSample{Ray{l.position, w, kInfinity},
+                              l.position,
+                              Vec3(0.0f),
+                              l.intensity,
+                              choose,
+                              uniform_sphere_pdf(),
+                              std::nullopt};
+    }
+    if (lights_[light].kind != Kind::Area) return std::nullopt;  // the environment
+    const AreaLight& area_light = scene_.area_lights()[lights_[light].index];
+    SurfacePoint on = point_by_area(lights_[light].index, u_point);
+    // A two-sided light leaves by either side, half the time each: u_dir.x picks the side, then
+    // is stretched back to [0, 1).
+    Vec2 u = u_dir;
+    float side = 1.0f;
+    if (area_light.two_sided) {
+        side = 0.5f;
+        if (u.x < 0.5f) {
+            on.n = -on.n;
+            u.x = 2.0f * u.x;
+        } else {
+            u.x = std::min(2.0f * u.x - 1.0f, 0x1.fffffep-1f);
+        }
+    }
+    const Vec3 local = sample_cosine_hemisphere(u);
+    if (!(local.z > 0.0f)) return std::nullopt;  // the disk's rim: measure zero
+    const Vec3 w = glm::normalize(Frame(on.n).to_world(local));
+    return EmissionSample{spawn_ray(on, w),
+                          on.p,
+                          on.n,
+                          area_light.radiance,
+                          choose / area_light.area,
+                          side * cosine_hemisphere_pdf(local.z),
+                          area_light.prim,
+                          on.error};
+}
+
+LightSampler::EmissionPdf LightSampler::point_emission_pdf(uint32_t index) const {
+    if (index >= light_of_point_.size() || light_of_point_[index] == SIZE_MAX) return {};
+    return {choice_probability(light_of_point_[index]), uniform_sphere_pdf()};
+}
+
+LightSampler::EmissionPdf LightSampler::emission_pdf(PrimRef light, const Vec3& n_q,
+                                                     const Vec3& w) const {
+    const auto it = light_of_primitive_.find(light.bits);
+    if (it == light_of_primitive_.end()) return {};
+    const AreaLight& area_light = scene_.area_lights()[lights_[it->second].index];
+    const float cos_q = glm::dot(n_q, w);
+    const float dir = area_light.two_sided ? 0.5f * cosine_hemisphere_pdf(std::fabs(cos_q))
+                                           : cosine_hemisphere_pdf(std::max(cos_q, 0.0f));
+    return {choice_probability(it->second) / area_light.area, dir};
+}
+
+float LightSampler::area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q,
+                             const Vec3& n_q) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
+    const Vec3 d = q - p;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.0f)) return 0.0f;
+    float cos_light = glm::dot(n_q, -d / std::sqrt(d2));
+    if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);
+    if (cos_light <= 0.0f && !light.two_sided) return 0.0f;
+    if (light.prim.kind() == ShapeKind::Sphere) {
+        const Sphere& s = scene_.spheres()[light.prim.index()];
+        const Vec3 to_center = s.center - p;
+        const float dc2 = glm::dot(to_center, to_center);
+        const float r2 = s.radius * s.radius;
+        if (dc2 <= r2 * 1.0001f) return area_to_solid_angle_pdf(1.0f / s.area(), d2, cos_light);
+        const float sin2_max = r2 / dc2;
+        return uniform_cone_pdf(cone_one_minus_cos(sin2_max));
+    }
+    if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
+        const SphericalRectangle rect(p, *rectangle);
+        if (rect.well_conditioned()) return spherical_rectangle_pdf(rect);
+    }
+    return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
+}
+
+float LightSampler::pdf(const Vec3& p, const SurfaceInteraction& light_hit) const {
+    return pdf(p, light_hit.prim, light_hit.p, light_hit.n_geo);
+}
+
+float LightSampler::pdf(const Vec3& p, PrimRef light, const Vec3& q, const Vec3& n_q) const {
+    const auto it = light_of_primitive_.find(light.bits);
+    if (it == light_of_primitive_.end()) return 0.0f;
+    return choice_probability(it->second) * area_pdf(lights_[it->second].index, p, q, n_q);
+}
+
+}  // namespace lessons

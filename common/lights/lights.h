@@ -1,0 +1,138 @@
+// Light sampling for lessons 3 to 5: choose a light, then a point on it, and say how likely
+// that choice was, per unit solid angle as seen from the shading point.
+//
+// Lights: point lights (intensity I, W/sr), emissive surfaces (radiance L_e; quads, triangles
+// and spheres, one-sided unless the material says two-sided), and the uniform environment
+// (the scene's background radiance). A light is chosen with probability proportional to its
+// power; then
+//   rectangles (quads with orthogonal edges): a direction uniform in the solid angle they
+//     subtend (SphericalRectangle, sampling.h), p = 1 / Omega, which stays bounded near the
+//     light's plane, where area sampling's 1 / (d^2 cos(theta_l)) does not (by area when the
+//     solid angle is too small or too large to sample accurately);
+//   other quads, triangles: a point uniform by area, p_A = 1 / A, converted to solid angle;
+//   spheres: a direction uniform in the cone the sphere subtends (from inside: by area);
+//   environment: a direction uniform on the sphere, 1 / (4 pi);
+//   point lights: their position (a delta distribution).
+#pragma once
+
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "geometry/math.h"
+#include "geometry/spawn.h"
+#include "sampling/sampling.h"
+#include "scene/scene.h"
+
+namespace lessons {
+
+// The one conversion of an area density into a solid-angle density , written once: a patch dA at
+// distance d, tilted by theta_l from the direction back to the shading point, subtends
+// d(omega) = cos(theta_l) dA / d^2, so p_omega = p_A d^2 / |cos(theta_l)|.
+inline float area_to_solid_angle_pdf(float pdf_area, float distance_squared, float cos_light) {
+    const float c = std::fabs(cos_light);
+    return c > 0.0f ? pdf_area * distance_squared / c : 0.0f;
+}
+// And back, for a direction sampled at the shading point that reaches a patch at distance d,
+// tilted by theta: p_A = p_omega |cos(theta)| / d^2 (lesson 4 weighs path vertices per area).
+inline float solid_angle_to_area_pdf(float pdf_solid_angle, float distance_squared,
+                                     float cos_theta) {
+    return distance_squared > 0.0f ? pdf_solid_angle * std::fabs(cos_theta) / distance_squared
+                                   : 0.0f;
+}
+
+struct LightSample {
+    // Radiance arriving at the shading point from the sampled light point, W/(sr m^2). For a
+    // point light (is_delta), the irradiance it gives a surface facing it, I / d^2, W/m^2.
+    Color radiance;
+    Vec3 wi;         // unit direction from the shading point to the light
+    float distance;  // to the sampled point; infinite for the environment
+    float pdf;       // solid-angle density of wi, times the probability of choosing the light;
+                     // for a point light: that probability alone
+    bool is_delta;   // a point light: no BSDF sample can ever hit it
+    Ray shadow_ray;  // the segment that must be unoccluded (robustly offset at both ends)
+    std::optional<PrimRef> emitter;  // the primitive the segment ends on, which cannot block it
+    Vec3 point{0.0f}, normal{0.0f};  // on an area light: the sampled point and its unit normal
+};
+
+// Light leaving a light, for light paths (lesson 5): a light chosen by power as sample() chooses,
+// then
+//   an area light: a point uniform by area on it, and a direction distributed as cos(theta)
+//     about the emitting side's normal (either side of a two-sided light, half the time each);
+//   a point light: its position, and a direction uniform on the sphere.
+// The environment starts none (lesson 5 says why).
+struct EmissionSample {
+    Ray ray;         // leaving the light
+    Vec3 point;      // where it leaves
+    Vec3 normal;     // unit geometric normal there, on the side the ray leaves (zero: point light)
+    Color radiance;  // L_e along the ray, W/(sr m^2); for a point light its intensity I, W/sr
+    float pdf_area;  // density of the point: choice probability / area, per m^2 (point light:
+                     // the choice probability alone, a discrete choice of a delta position)
+    float pdf_dir;   // density of the direction, per sr
+    std::optional<PrimRef> emitter;  // the emissive primitive; none for a point light
+    Vec3 error{0.0f};                // bound on the rounding error of `point` (for rays to it)
+    bool is_delta() const { return !emitter; }
+};
+
+class LightSampler {
+public:
+    explicit LightSampler(const Scene& scene);
+
+    bool empty() const { return lights_.empty(); }
+    size_t size() const { return lights_.size(); }
+    bool has_point_lights() const { return has_point_lights_; }
+
+    // A light sample for the shading point `at`, from three uniform numbers. None if the
+    // scene has no lights, or the sampled point cannot send light to `at` (e.g. the back of a
+    // one-sided light).
+    std::optional<LightSample> sample(const SurfacePoint& at, float u_choose, const Vec2& u) const;
+
+    // The density sample() has of producing direction wi that reaches the emissive surface
+    // `light_hit` (found by tracing a ray from p): for weighting BSDF samples that hit lights.
+    float pdf(const Vec3& p, const SurfaceInteraction& light_hit) const;
+    // The same for the point q (unit geometric normal n_q) of the emissive primitive `light`.
+    float pdf(const Vec3& p, PrimRef light, const Vec3& q, const Vec3& n_q) const;
+    // The same for a direction that escapes to the uniform environment.
+    float environment_pdf() const;
+
+    // A ray of light leaving a light, from five uniform numbers (see EmissionSample).
+    std::optional<EmissionSample> sample_emission(float u_choose, const Vec2& u_point,
+                                                  const Vec2& u_dir) const;
+    // The densities sample_emission() has of leaving the emitter `light` from its point q, where
+    // its unit geometric normal is n_q, in direction w (unit): per m^2 of the light and per sr.
+    struct EmissionPdf {
+        float area = 0.0f, dir = 0.0f;
+    };
+    EmissionPdf emission_pdf(PrimRef light, const Vec3& n_q, const Vec3& w) const;
+    // The same for point light `index` (into scene.point_lights()): its choice probability, and
+    // the uniform sphere's 1 / (4 pi) for any direction.
+    EmissionPdf point_emission_pdf(uint32_t index) const;
+
+private:
+    enum class Kind { Point, Area, Environment };
+    struct Entry {
+        Kind kind;
+        uint32_t index;  // into scene.point_lights() or scene.area_lights()
+    };
+    // The light a uniform number picks, in proportion to power (an index into lights_).
+    size_t choose_light(float u_choose) const;
+    float choice_probability(size_t light) const;
+    // Both take an index into scene.area_lights().
+    std::optional<LightSample> sample_area(uint32_t area_light, const SurfacePoint& at,
+                                           const Vec2& u) const;
+    float area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
+    // A point uniform by area on an area light: the light's surface point, with its unit normal.
+    SurfacePoint point_by_area(uint32_t area_light, const Vec2& u) const;
+
+    const Scene& scene_;
+    std::vector<Entry> lights_;
+    std::vector<float> cdf_;  // cumulative choice probabilities, cdf_.back() == 1
+    std::unordered_map<uint32_t, size_t> light_of_primitive_;
+    std::vector<size_t> light_of_point_;  // per point light: its index in lights_, or SIZE_MAX
+    // Per area light: its rectangle, for those sampled by solid angle (AreaLight::rectangle).
+    std::vector<std::optional<Rectangle>> rectangles_;
+    std::optional<size_t> environment_;
+    bool has_point_lights_ = false;
+};
+
+}  // namespace lessons

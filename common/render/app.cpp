@@ -1,0 +1,432 @@
+// The shared lesson driver. A run is a few named steps, in this order: read the command line,
+// load the scene (with any --naive methods), read the reference, make the lesson's model, render,
+// measure, and write the images and the report (see app.h).
+#include "render/app.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+
+#include "io/image.h"
+#include "io/input_error.h"
+#include "io/report.h"
+#include "io/scene_file.h"
+
+namespace lessons {
+
+namespace {
+
+void add_common_options(CLI::App& app, CommonOptions& o) {
+    app.add_option("--scene", o.scene, "Scene file (TOML), see docs/scene-format.md")
+        ->capture_default_str();
+    app.add_option("--out", o.out,
+                   "Output prefix: writes PREFIX.exr (linear radiance) and PREFIX.png (sRGB); "
+                   "default out/<lesson>_<scene>");
+    app.add_option("--spp", o.spp, "Samples per pixel (default: the lesson's)")
+        ->check(CLI::Range(1, 1 << 24));
+    app.add_option("--width", o.width, "Image width in pixels, overriding the scene")
+        ->check(CLI::Range(1, kMaxImageSide));
+    app.add_option("--height", o.height, "Image height in pixels, overriding the scene")
+        ->check(CLI::Range(1, kMaxImageSide));
+    app.add_option("--threads", o.threads, "Worker threads (0: one per core)")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+    app.add_option("--seed", o.seed, "Seed of the random numbers (same seed: same image)")
+        ->capture_default_str();
+    app.add_option("--report", o.report, "Write a JSON report of the render to this file");
+    app.add_option("--exposure", o.exposure,
+                   "PNG exposure in stops: pixel values are scaled by 2^stops, then clamped "
+                   "to [0, 1] and sRGB-encoded (the EXR is never scaled)")
+        ->check(CLI::Range(-30.0, 30.0))
+        ->capture_default_str();
+    app.add_flag("--quiet", o.quiet, "No progress output");
+    app.add_option("--reference", o.reference,
+                   "An EXR of the same size to measure the error against: mse, rmse, relmse, mae "
+                   "(printed and reported), and efficiency 1 / (mse x seconds)");
+    app.add_option("--time", o.time_budget,
+                   "Render whole passes of one sample per pixel until this many seconds of "
+                   "rendering are spent (instead of --spp); the report gives the samples taken")
+        ->check(CLI::Range(1e-3, 1e6));
+    app.add_option("--convergence", o.convergence,
+                   "With --reference: write a CSV of seconds, spp and each error metric after 1, "
+                   "2, 4, 8, ... samples per pixel (the measuring is not counted as time)");
+    app.add_option("--variance", o.variance,
+                   "Write the per-pixel sample variance of the mean as PREFIX.exr");
+    app.add_option("--naive", o.naive,
+                   "Use the naive methods the suite replaces, to see them fail: epsilon=E (a "
+                   "fixed ray offset), quadratic (textbook sphere test in float), "
+                   "moller-trumbore (triangles, not watertight), side-by-dot (the side a ray "
+                   "hits from dot(d, n)), shading-normals (no fallback below an interpolated "
+                   "normal), light-cosine (|cos| at one-sided lights); comma-separated")
+        ->delimiter(',');
+    app.add_option(
+           "--sampler", o.sampler,
+           "Where each sample's random numbers come from: independent (PCG32, the "
+           "default) or kronecker (a randomised Kronecker sequence per pixel, the positions "
+           "in the pixel from a scrambled Sobol sequence: stratified, still unbiased)")
+        ->check(CLI::IsMember({"independent", "kronecker"}));
+    app.add_option("--clamp", o.clamp,
+                   "Clamp each sample's luminance to this value (removes fireflies; biased, and "
+                   "the report says so)")
+        ->check(CLI::PositiveNumber);
+}
+
+// Refuses an image whose buffers would not fit in memory, before any work is done.
+void check_memory(int width, int height) {
+    // Film (two double triples and counts), the mean and variance images and their copies in
+    // the result, the PNG bytes: 128 bytes per pixel is a safe upper bound.
+    const double bytes_per_pixel = 128.0;
+    const double need = bytes_per_pixel * width * height;
+    const double physical =
+        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (physical > 0 && need > 0.5 * physical) {
+        char msg[200];
+        std::snprintf(msg, sizeof msg,
+                      "%dx%d needs %.1f GiB for the image buffers, more than half of this "
+                      "machine's %.1f GiB",
+                      width, height, need / (1 << 30), physical / (1 << 30));
+        throw InputError("command line", 0, "--width/--height", msg);
+    }
+}
+
+std::string default_out(const Lesson& lesson, const std::string& scene_path) {
+    return "out/" + lesson.name + "_" + std::filesystem::path(scene_path).stem().string();
+}
+
+}  // namespace
+
+namespace {
+
+// Ctrl-C (SIGINT) or SIGTERM: the first asks the render to stop after the tiles in progress, so
+// the image so far is written; the second exits at once. Only async-signal-safe calls here.
+std::atomic<bool> g_stop_requested{false};
+
+extern "C" void on_stop_signal(int signal_number) {
+    if (g_stop_requested.exchange(true)) std::_Exit(128 + signal_number);
+    const char message[] =
+        "\ninterrupted: finishing the tiles in progress, then writing the image so far (press "
+        "Ctrl-C again to quit at once)\n";
+    [[maybe_unused]] const ssize_t n = write(STDERR_FILENO, message, sizeof message - 1);
+}
+
+void install_stop_handlers() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
+}  // namespace
+
+namespace {
+
+// ---- 1. The command line ----
+
+// Parses argv into `o` and the lesson's own flags; an exit status if the run stops here (--help,
+// or a bad flag: 2).
+std::optional<int> read_command_line(int argc, char** argv, const Lesson& lesson, CLI::App& app,
+                                     CommonOptions& o) {
+    add_common_options(app, o);
+    if (lesson.add_options) lesson.add_options(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << lesson.name << ": error: command line: " << e.what() << " (see --help)\n";
+        return 2;
+    }
+    if (o.spp <= 0) o.spp = lesson.default_spp;
+    if (o.out.empty()) o.out = default_out(lesson, o.scene);
+    return std::nullopt;
+}
+
+// ---- 2. The scene, the reference and the model ----
+
+// Turns on the --naive methods by name (docs/robustness.md); throws InputError for an unknown one.
+void apply_naive_methods(const std::vector<std::string>& methods, NaiveMethods& naive) {
+    for (const std::string& method : methods) {
+        if (method == "quadratic") {
+            naive.textbook_quadratic = true;
+        } else if (method == "moller-trumbore") {
+            naive.moller_trumbore = true;
+        } else if (method == "side-by-dot") {
+            naive.side_by_dot = true;
+        } else if (method == "shading-normals") {
+            naive.raw_shading_normals = true;
+        } else if (method == "light-cosine") {
+            naive.light_abs_cosine = true;
+        } else if (method.rfind("epsilon=", 0) == 0) {
+            char* end = nullptr;
+            const float e = std::strtof(method.c_str() + 8, &end);
+            if (*end != '\0' || !(e > 0.0f) || !std::isfinite(e))
+                throw InputError("command line", 0, "--naive",
+                                 "epsilon must be a positive number, got '" + method + "'");
+            naive.fixed_epsilon = e;
+        } else {
+            throw InputError("command line", 0, "--naive",
+                             "unknown method '" + method +
+                                 "' (known: epsilon=E, quadratic, moller-trumbore, side-by-dot, "
+                                 "shading-normals, light-cosine)");
+        }
+    }
+}
+
+// The --reference image, which must have the render's size; empty without --reference.
+Image read_reference(const CommonOptions& o, const Scene& scene) {
+    if (!o.convergence.empty() && o.reference.empty())
+        throw InputError("command line", 0, "--convergence",
+                         "needs --reference: the error is measured against it");
+    if (o.reference.empty()) return {};
+    Image reference;
+    try {
+        reference = read_exr(o.reference);
+    } catch (const std::runtime_error& e) {
+        throw InputError("command line", 0, "--reference", e.what());
+    }
+    if (reference.width != scene.width || reference.height != scene.height)
+        throw InputError(o.reference, 0, "--reference",
+                         "is " + std::to_string(reference.width) + "x" +
+                             std::to_string(reference.height) + ", the render is " +
+                             std::to_string(scene.width) + "x" + std::to_string(scene.height) +
+                             " (use --width/--height)");
+    return reference;
+}
+
+// Everything a run renders with, made before any rendering: bad input stops it here. The model
+// refers to the scene, so both stay where they are made (filled in place, never moved).
+struct RunInputs {
+    Scene scene;
+    Model model;
+    Image reference;
+};
+void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
+    in.scene = load_scene(o.scene, {o.width, o.height});
+    check_memory(in.scene.width, in.scene.height);
+    apply_naive_methods(o.naive, in.scene.naive);
+    in.reference = read_reference(o, in.scene);
+    in.model = lesson.make_model(in.scene);
+    const std::filesystem::path dir = std::filesystem::path(o.out).parent_path();
+    if (!dir.empty()) std::filesystem::create_directories(dir);
+}
+
+void print_run_header(const Lesson& lesson, const CommonOptions& o, const RunInputs& in) {
+    std::cerr << lesson.name << ": " << in.scene.source << ", " << in.scene.width << "x"
+              << in.scene.height << ", "
+              << (o.time_budget > 0.0 ? std::to_string(o.time_budget) + " s budget"
+                                      : std::to_string(o.spp) + " spp")
+              << ", " << resolve_thread_count(o.threads) << " threads\n";
+    for (const std::string& note : in.model.notes) std::cerr << "  note: " << note << "\n";
+    for (const std::string& why : in.model.biased_because) std::cerr << "  biased: " << why << "\n";
+}
+
+// ---- 3. Rendering ----
+
+struct RunResult {
+    RenderResult render;
+    int spp_taken = 0;
+    std::vector<Checkpoint> checkpoints;  // with --reference
+};
+RunResult render_run(const CommonOptions& o, const RunInputs& in) {
+    RenderSettings settings;
+    settings.threads = o.threads;
+    settings.seed = o.seed;
+    settings.progress = !o.quiet;
+    settings.stop = &g_stop_requested;
+    settings.clamp = o.clamp;
+    settings.kronecker = o.sampler == "kronecker";
+    install_stop_handlers();
+    RunResult run;
+    ProgressivePlan plan;
+    plan.spp = o.spp;
+    plan.time_budget = o.time_budget;
+    if (!o.reference.empty()) {
+        plan.reference = &in.reference;
+        plan.on_checkpoint = [&](const Checkpoint& c) {
+            run.checkpoints.push_back(c);
+            if (!o.quiet)
+                std::fprintf(stderr, "  %6d spp %8.2f s   mse %.4g  relmse %.4g\n", c.spp,
+                             c.seconds, c.error.mse, c.error.relmse);
+        };
+    }
+    run.spp_taken = o.spp;
+    run.render = render_progressive(in.scene, in.model, plan, settings, &run.spp_taken);
+    return run;
+}
+
+// ---- 4. Measuring ----
+
+// Each layer's share of the image's total luminance, as a printable line.
+std::vector<std::string> layer_shares(const RenderResult& r, const Model& model) {
+    std::vector<std::string> shares;
+    double total_luminance = 0.0;
+    for (const Color& c : r.image.pixels) total_luminance += luminance(c);
+    for (size_t k = 0; k < r.layers.size(); ++k) {
+        double layer_luminance = 0.0;
+        for (const Color& c : r.layers[k].pixels) layer_luminance += luminance(c);
+        const double share = total_luminance > 0.0 ? layer_luminance / total_luminance : 0.0;
+        char line[160];
+        std::snprintf(line, sizeof line, "%s: %.2f%% of the image's energy",
+                      model.layer_names[k].c_str(), 100.0 * share);
+        shares.push_back(line);
+    }
+    return shares;
+}
+
+// ---- 5. Writing ----
+
+void write_convergence_csv(const std::string& path, const std::vector<Checkpoint>& checkpoints) {
+    write_atomically(path, [&](const std::string& tmp) {
+        std::FILE* f = std::fopen(tmp.c_str(), "w");
+        if (!f) throw std::runtime_error(path + ": cannot write");
+        std::fprintf(f, "seconds,spp,mse,rmse,relmse,mae\n");
+        for (const Checkpoint& c : checkpoints)
+            std::fprintf(f, "%.6f,%d,%.9g,%.9g,%.9g,%.9g\n", c.seconds, c.spp, c.error.mse,
+                         c.error.rmse, c.error.relmse, c.error.mae);
+        if (std::fclose(f) != 0) throw std::runtime_error(path + ": cannot write");
+    });
+}
+
+// The EXR and PNG of the image and of every layer, the variance and the convergence CSV.
+void write_images(const CommonOptions& o, const Model& model, const RunResult& run) {
+    const RenderResult& r = run.render;
+    write_exr(r.image, o.out + ".exr");
+    if (!o.variance.empty()) write_exr(r.variance, o.variance + ".exr");
+    if (!o.convergence.empty()) write_convergence_csv(o.convergence, run.checkpoints);
+    write_png(r.image, o.out + ".png", o.exposure);
+    for (size_t k = 0; k < r.layers.size(); ++k) {
+        write_exr(r.layers[k], o.out + "_" + model.layer_names[k] + ".exr");
+        write_png(r.layers[k], o.out + "_" + model.layer_names[k] + ".png", o.exposure);
+    }
+}
+
+double mrays_per_second(const RenderStats& s) {
+    return s.seconds > 0 ? s.rays / s.seconds * 1e-6 : 0.0;
+}
+
+void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInputs& in,
+                      const RunResult& run, const std::optional<ErrorMetrics>& error,
+                      const std::vector<std::string>& shares) {
+    const RenderResult& r = run.render;
+    Report report;
+    report.set("chapter", lesson.name);
+    report.set("scene", in.scene.source);
+    report.set("width", in.scene.width);
+    report.set("height", in.scene.height);
+    report.set("spp", run.spp_taken);
+    report.set("firefly_pixels", r.firefly_pixels);
+    std::vector<std::string> bias = in.model.biased_because;
+    if (o.clamp > 0.0f) bias.push_back("--clamp: bright samples are scaled down");
+    if (in.scene.naive.any()) bias.push_back("--naive: the naive methods are wrong on purpose");
+    report.set("biased", !bias.empty());
+    report.set("bias", bias);
+    if (o.clamp > 0.0f) {
+        report.set("clamp", static_cast<double>(o.clamp));
+        report.set("clamped_samples", r.clamped_samples);
+    }
+    if (!o.naive.empty()) report.set("naive", o.naive);
+    report.set("interrupted", r.interrupted);
+    if (o.time_budget > 0.0) report.set("time_budget", o.time_budget);
+    report.set("threads", resolve_thread_count(o.threads));
+    report.set("seed", o.seed);
+    report.set("seconds", r.stats.seconds);
+    report.set("rays", r.stats.rays);
+    report.set("mrays_per_second", mrays_per_second(r.stats));
+    report.set("nan_pixels", r.nan_pixels);
+    report.set("inf_pixels", r.inf_pixels);
+    report.set("nan_samples", r.nan_samples);
+    report.set("inf_samples", r.inf_samples);
+    report.set("image", o.out + ".exr");
+    if (error) {
+        report.set("reference", o.reference);
+        report.set("mse", error->mse);
+        report.set("rmse", error->rmse);
+        report.set("relmse", error->relmse);
+        report.set("mae", error->mae);
+        // 1 / (MSE x seconds): constant for an unbiased estimator (MSE ~ 1 / time).
+        report.set("efficiency", error->mse > 0.0 && r.stats.seconds > 0.0
+                                     ? 1.0 / (error->mse * r.stats.seconds)
+                                     : 0.0);
+    }
+    report.set("notes", in.model.notes);
+    if (!shares.empty()) report.set("layers", shares);
+    if (in.model.splatting) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
+    report.write(o.report);
+}
+
+}  // namespace
+
+int run_lesson(int argc, char** argv, const Lesson& lesson) {
+    CLI::App app(lesson.description, lesson.name);
+    CommonOptions o;
+    if (const std::optional<int> status = read_command_line(argc, argv, lesson, app, o))
+        return *status;
+
+    RunInputs in;
+    try {
+        prepare_run(o, lesson, in);
+    } catch (const InputError& e) {
+        std::cerr << lesson.name << ": error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::filesystem::filesystem_error& e) {
+        std::cerr << lesson.name << ": error: --out " << o.out << ": " << e.what() << "\n";
+        return 2;
+    }
+    if (!o.quiet) print_run_header(lesson, o, in);
+
+    const RunResult run = render_run(o, in);
+    const RenderResult& r = run.render;
+    if (r.nan_samples + r.inf_samples > 0)
+        std::cerr << lesson.name << ": warning: " << r.nan_samples << " NaN and " << r.inf_samples
+                  << " infinite samples were left out of the average (" << r.nan_pixels << " and "
+                  << r.inf_pixels << " pixels)\n";
+
+    const std::vector<std::string> shares = layer_shares(r, in.model);
+    if (!o.quiet)
+        for (const std::string& line : shares) std::cerr << "  " << line << "\n";
+    std::optional<ErrorMetrics> error;
+    if (!o.reference.empty()) {
+        error = compare_images(r.image, in.reference);
+        if (!o.quiet)
+            std::fprintf(stderr, "%s: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
+                         lesson.name.c_str(), o.reference.c_str(), error->mse, error->rmse,
+                         error->relmse, error->mae);
+    }
+
+    int status = 0;
+    if (r.interrupted) {
+        std::cerr << lesson.name << ": interrupted after " << run.spp_taken
+                  << " complete samples per pixel; writing what was rendered\n";
+        status = 130;  // 128 + SIGINT, as a shell reports an interrupted command
+    }
+    try {
+        write_images(o, in.model, run);
+    } catch (const std::exception& e) {
+        std::cerr << lesson.name << ": error: " << e.what() << "\n";
+        if (status == 0) status = 1;
+    }
+    if (!o.report.empty()) {
+        try {
+            write_run_report(lesson, o, in, run, error, shares);
+        } catch (const std::exception& e) {
+            std::cerr << lesson.name << ": error: " << e.what() << "\n";
+            status = 1;
+        }
+    }
+    if (!o.quiet && status == 0)
+        std::fprintf(stderr, "%s: wrote %s.exr and %s.png in %.2f s (%.2f Mrays/s)\n",
+                     lesson.name.c_str(), o.out.c_str(), o.out.c_str(), r.stats.seconds,
+                     mrays_per_second(r.stats));
+    return status;
+}
+
+}  // namespace lessons

@@ -1,0 +1,55 @@
+// The plumbing every lesson shares: command line, scene loading, rendering, writing the image
+// and the report. A lesson's main() describes the lesson and its illumination model; this runs
+// it, step by step (app.cpp): read the command line, load the scene, read the reference, make
+// the model, render (progressive.h), measure, write.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "render/progressive.h"
+#include "scene/scene.h"
+
+namespace CLI {
+class App;
+}
+
+namespace lessons {
+
+struct Lesson {
+    std::string name;         // e.g. "01_ray_casting": the executable and the report's "chapter"
+    std::string description;  // first line of --help
+    int default_spp = 1;
+    std::function<void(CLI::App&)> add_options;  // the lesson's own flags (may be empty)
+    std::function<Model(const Scene&)>
+        make_model;  // throws InputError if the scene cannot be shown
+};
+
+// The common options, as parsed from the command line.
+struct CommonOptions {
+    std::string scene = "scenes/cornell_box.toml";
+    std::string out;  // output prefix; default out/<lesson>_<scene name>
+    int spp = 0;      // 0: the lesson's default
+    int width = 0, height = 0;
+    int threads = 0;
+    uint64_t seed = 0;
+    std::string report;
+    float exposure = 0.0f;
+    bool quiet = false;
+    // Speed against error (docs/speed-vs-error.md)
+    std::string reference;           // EXR to measure the error against
+    double time_budget = 0.0;        // > 0: render whole passes of 1 spp until this many seconds
+    std::string convergence;         // CSV of error against time at 1, 2, 4, ... spp
+    std::string variance;            // prefix of an EXR of the per-pixel variance of the mean
+    std::vector<std::string> naive;  // naive methods to demonstrate (docs/robustness.md)
+    float clamp = 0.0f;              // > 0: clamp sample luminance (biased)
+    std::string sampler = "independent";  // or "kronecker" (RenderSettings::kronecker)
+};
+
+// Parses the command line, renders, writes <out>.exr, <out>.png and the report.
+// Exit codes: 0 done; 1 a failure while writing output; 2 bad input (command line, scene file,
+// mesh), reported on one line naming the file, line and field.
+int run_lesson(int argc, char** argv, const Lesson& lesson);
+
+}  // namespace lessons

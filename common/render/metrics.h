@@ -1,0 +1,27 @@
+// How wrong an image is, against a reference it did not produce (docs/accuracy.md, "Measuring error
+// against speed"). d is the per-channel difference image - reference; every mean is over all
+// pixels and all three channels.
+//   mse    = mean(d^2)                       mean squared error = variance + bias^2
+//   rmse   = sqrt(mse)
+//   relmse = mean(d^2 / (ref^2 + 0.01))      relative MSE, for HDR scenes: bright pixels do not
+//                                            dominate, dark ones are not divided by ~0
+//   mae    = mean(|d|)
+// An unbiased estimator's MSE falls as 1/samples, so 1 / (MSE x seconds), its efficiency, is a
+// constant of the estimator and the scene.
+#pragma once
+
+#include <string>
+
+#include "io/image.h"
+
+namespace lessons {
+
+struct ErrorMetrics {
+    double mse = 0.0, rmse = 0.0, relmse = 0.0, mae = 0.0;
+};
+
+// Throws InputError (naming `what`) when the sizes differ.
+ErrorMetrics compare_images(const Image& image, const Image& reference,
+                            const std::string& what = "image");
+
+}  // namespace lessons

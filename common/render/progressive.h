@@ -1,0 +1,71 @@
+// Rendering a model in whole passes over the image: all samples at once, in doubling batches
+// that Ctrl-C can stop between, or pass by pass against a clock with error checkpoints (speed
+// against error, docs/speed-vs-error.md). What a lesson's run renders, and what the tests call.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "io/image.h"
+#include "render/metrics.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+namespace lessons {
+
+// A lesson's illumination model, made for one scene.
+struct Model {
+    RadianceFn radiance;
+    // Optional: the same model splitting its radiance into named layers, each written as an
+    // image <out>_<name> with its share of the total printed (used when layer_names is set).
+    LayeredRadianceFn layered;
+    std::vector<std::string> layer_names;
+    // Optional: a model that also adds light to other pixels than its sample's (lesson 5's light
+    // paths). When set, it is used instead of radiance and layered (render_splatting).
+    SplattingRadianceFn splatting;
+    // One line per thing the model approximates or ignores in this scene, printed before the
+    // render and stored in the report.
+    std::vector<std::string> notes;
+    // Why the model's answer differs from the rendering equation's in this scene, however many
+    // samples it takes (its bias); empty when it converges to the true image. Printed, and in
+    // the report as "biased" and "bias".
+    std::vector<std::string> biased_because;
+};
+
+// What a render gives back: the image, its layers, their per-pixel variances and counts.
+struct RenderResult {
+    Image image;
+    std::vector<Image> layers;
+    Image variance;
+    std::vector<Image> layer_variances;  // per layer, as `variance` is for the image
+    RenderStats stats;
+    int nan_pixels = 0, inf_pixels = 0;
+    uint64_t nan_samples = 0, inf_samples = 0;
+    bool interrupted = false;  // stopped by RenderSettings::stop before the planned samples
+    int firefly_pixels = 0;
+    uint64_t clamped_samples = 0;
+    size_t splat_bytes = 0;  // splatting models: the most memory one pass's splats held
+};
+// Renders `spp` samples per pixel in one go (for tests; run_lesson renders progressively).
+RenderResult render_scene(const Scene& scene, const Model& model, int spp,
+                          const RenderSettings& settings);
+
+// Progressive rendering: whole passes over the image, so that the error can be measured along
+// the way and a time budget respected. A checkpoint is taken after 1, 2, 4, 8, ... samples per
+// pixel and at the end; its time counts only the rendering, never the checkpoint's own work.
+struct Checkpoint {
+    int spp;
+    double seconds;  // rendering time so far
+    ErrorMetrics error;
+};
+struct ProgressivePlan {
+    int spp = 1;                       // samples per pixel, when there is no time budget
+    double time_budget = 0.0;          // > 0: passes of one sample per pixel until this is spent
+    const Image* reference = nullptr;  // for checkpoints
+    std::function<void(const Checkpoint&)> on_checkpoint;  // called if reference is set
+};
+RenderResult render_progressive(const Scene& scene, const Model& model, const ProgressivePlan& plan,
+                                const RenderSettings& settings, int* spp_taken);
+
+}  // namespace lessons

@@ -1,0 +1,411 @@
+// Scene construction, ray queries through the BVH, and hit descriptions.
+#include "scene/scene.h"
+
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace lessons {
+
+namespace {
+thread_local uint64_t t_rays_traced = 0;
+}
+
+uint64_t rays_traced_by_this_thread() {
+    return t_rays_traced;
+}
+
+uint32_t Scene::add_material(const Material& m) {
+    materials_.push_back(m);
+    return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+void Scene::add_sphere(const Sphere& s, uint32_t material) {
+    spheres_.push_back(s);
+    sphere_materials_.push_back(material);
+}
+
+void Scene::add_quad(const Quad& q, uint32_t material) {
+    quads_.push_back(q);
+    quad_materials_.push_back(material);
+}
+
+void Scene::add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                     const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles) {
+    const uint32_t base = static_cast<uint32_t>(positions_.size());
+    // Vertex attributes are stored only once some mesh has them; meshes without are padded.
+    if (!normals.empty() || !normals_.empty()) {
+        normals_.resize(base, Vec3(0.0f));
+        if (normals.empty())
+            normals_.resize(base + positions.size(), Vec3(0.0f));
+        else
+            normals_.insert(normals_.end(), normals.begin(), normals.end());
+    }
+    if (!uvs.empty() || !uvs_.empty()) {
+        uvs_.resize(base, Vec2(0.0f));
+        if (uvs.empty())
+            uvs_.resize(base + positions.size(), Vec2(0.0f));
+        else
+            uvs_.insert(uvs_.end(), uvs.begin(), uvs.end());
+    }
+    positions_.insert(positions_.end(), positions.begin(), positions.end());
+    for (Triangle t : triangles) {
+        for (uint32_t& v : t.v) v += base;
+        t.smooth = t.smooth && !normals.empty();
+        triangles_.push_back(t);
+    }
+}
+
+uint32_t Scene::material_of(PrimRef prim) const {
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: return sphere_materials_[prim.index()];
+        case ShapeKind::Quad: return quad_materials_[prim.index()];
+        case ShapeKind::Triangle: return triangles_[prim.index()].material;
+    }
+    return 0;
+}
+
+Bounds3 Scene::primitive_bounds(PrimRef prim) const {
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: return spheres_[prim.index()].bounds();
+        case ShapeKind::Quad: return quads_[prim.index()].bounds();
+        case ShapeKind::Triangle: {
+            const Triangle& t = triangles_[prim.index()];
+            Bounds3 b;
+            for (uint32_t v : t.v) b.expand(positions_[v]);
+            return b;
+        }
+    }
+    return {};
+}
+
+void Scene::commit() {
+    build_bvh();
+    collect_area_lights();
+    store_in_bvh_order();
+}
+
+void Scene::build_bvh() {
+    prims_.clear();
+    for (uint32_t i = 0; i < spheres_.size(); ++i) prims_.emplace_back(ShapeKind::Sphere, i);
+    for (uint32_t i = 0; i < quads_.size(); ++i) prims_.emplace_back(ShapeKind::Quad, i);
+    for (uint32_t i = 0; i < triangles_.size(); ++i) prims_.emplace_back(ShapeKind::Triangle, i);
+    std::vector<Bounds3> boxes;
+    boxes.reserve(prims_.size());
+    for (PrimRef p : prims_) {
+        // Rounded outwards by one float step, so a hit computed in higher precision (spheres
+        // are intersected in double) can never lie outside its box.
+        Bounds3 b = primitive_bounds(p);
+        for (int i = 0; i < 3; ++i) {
+            b.min[i] = std::nextafter(b.min[i], -kInfinity);
+            b.max[i] = std::nextafter(b.max[i], kInfinity);
+        }
+        boxes.push_back(b);
+    }
+    bvh_ = Bvh(boxes);
+}
+
+AreaLight Scene::area_light_of(PrimRef p, uint32_t m) const {
+    AreaLight light{p,
+                    m,
+                    materials_[m].emission,
+                    materials_[m].two_sided,
+                    0.0f,
+                    Vec3(0.0f),
+                    Vec3(0.0f),
+                    Vec3(0.0f)};
+    switch (p.kind()) {
+        case ShapeKind::Sphere: {
+            const Sphere& s = spheres_[p.index()];
+            light.area = s.area();
+            light.center = s.center;
+            break;
+        }
+        case ShapeKind::Quad: {
+            const Quad& q = quads_[p.index()];
+            light.area = q.area();
+            light.center = q.center();
+            light.center_error =
+                gamma_bound(4) * (glm::abs(q.corner) + glm::abs(q.edge_u) + glm::abs(q.edge_v));
+            light.normal = q.normal;
+            // Orthogonal to float precision (edges as given, or turned by a rotation).
+            light.rectangle = std::fabs(glm::dot(q.edge_u, q.edge_v)) <=
+                              1e-5f * glm::length(q.edge_u) * glm::length(q.edge_v);
+            break;
+        }
+        case ShapeKind::Triangle: {
+            const Triangle& t = triangles_[p.index()];
+            const Vec3 &a = positions_[t.v[0]], &b = positions_[t.v[1]], &c = positions_[t.v[2]];
+            const Vec3 n = glm::cross(b - a, c - a);
+            light.area = 0.5f * glm::length(n);
+            light.center = (a + b + c) / 3.0f;
+            light.center_error = gamma_bound(4) * (glm::abs(a) + glm::abs(b) + glm::abs(c));
+            light.normal = light.area > 0.0f ? glm::normalize(n) : Vec3(0.0f);
+            break;
+        }
+    }
+    return light;
+}
+
+void Scene::collect_area_lights() {
+    area_lights_.clear();
+    for (PrimRef p : prims_) {
+        const uint32_t m = material_of(p);
+        if (!materials_[m].is_emissive()) continue;
+        const AreaLight light = area_light_of(p, m);
+        if (light.area > 0.0f) area_lights_.push_back(light);
+    }
+}
+
+// Store the primitives in the BVH's order, so that a leaf's primitives lie side by side, and the
+// triangles' vertices with them, four to a block: a leaf's triangles are then tested four at once
+// from one 144-byte block, instead of following indices to three vertices each
+// (docs/performance.md).
+void Scene::store_in_bvh_order() {
+    std::vector<PrimRef> ordered;
+    ordered.reserve(prims_.size());
+    for (uint32_t p : bvh_.primitive_order())
+        ordered.push_back(p == Bvh::kPadding ? PrimRef() : prims_[p]);  // gaps: never visited
+    prims_ = std::move(ordered);
+    triangle_blocks_.clear();
+    quad_blocks_.clear();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<uint32_t>& order = bvh_.primitive_order();
+    if (!quads_.empty()) {
+        QuadBlock unused;
+        for (int axis = 0; axis < 3; ++axis)
+            unused.corner[axis] = unused.normal[axis] = unused.dual_u[axis] = unused.dual_v[axis] =
+                Float4{} + nan;
+        quad_blocks_.assign((prims_.size() + 3) / 4, unused);
+        for (size_t k = 0; k < prims_.size(); ++k)
+            if (order[k] != Bvh::kPadding && prims_[k].kind() == ShapeKind::Quad)
+                quad_blocks_[k / 4].set(static_cast<int>(k % 4), quads_[prims_[k].index()]);
+    }
+    if (!triangles_.empty()) {
+        TriangleBlock unused;
+        for (auto& vertex : unused.p)
+            for (Float4& axis : vertex) axis = Float4{} + nan;
+        triangle_blocks_.assign((prims_.size() + 3) / 4, unused);
+        for (size_t k = 0; k < prims_.size(); ++k) {
+            if (order[k] == Bvh::kPadding || prims_[k].kind() != ShapeKind::Triangle) continue;
+            const Triangle& t = triangles_[prims_[k].index()];
+            triangle_blocks_[k / 4].set(static_cast<int>(k % 4), positions_[t.v[0]],
+                                        positions_[t.v[1]], positions_[t.v[2]]);
+        }
+    }
+}
+
+[[gnu::always_inline]] inline bool Scene::intersect_primitive(uint32_t k, const Ray& ray,
+                                                              const WatertightRay& wr, float t_max,
+                                                              ShapeHit& hit) const {
+    const PrimRef prim = prims_[k];
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: {
+            Ray r = ray;
+            r.t_max = t_max;
+            return naive.textbook_quadratic ? intersect_sphere_naive(spheres_[prim.index()], r, hit)
+                                            : intersect_sphere(spheres_[prim.index()], r, hit);
+        }
+        case ShapeKind::Quad: break;  // always four at once, by QuadBlock
+        case ShapeKind::Triangle: {
+            const TriangleBlock& block = triangle_blocks_[k / 4];
+            const int lane = static_cast<int>(k % 4);
+            const Vec3 p0 = block.vertex(lane, 0), p1 = block.vertex(lane, 1),
+                       p2 = block.vertex(lane, 2);
+            if (naive.moller_trumbore) {
+                Ray r = ray;
+                r.t_max = t_max;
+                return intersect_triangle_moller_trumbore(r, p0, p1, p2, hit);
+            }
+            return intersect_triangle(wr, p0, p1, p2, t_max, hit);
+        }
+    }
+    return false;
+}
+
+Scene::RayTests Scene::ray_tests(const Ray& ray) const {
+    const bool triangle_blocks = !triangle_blocks_.empty() && !naive.moller_trumbore;
+    return {triangles_.empty() ? WatertightRay() : WatertightRay(ray), triangle_blocks,
+            !quad_blocks_.empty(), !spheres_.empty() || (!triangles_.empty() && !triangle_blocks)};
+}
+
+template <class OnHit>
+bool Scene::intersect_leaf(const RayTests& tests, uint32_t first, uint32_t end, const Ray& ray,
+                           float& t_max, OnHit&& on_hit) const {
+    const WatertightRay& wr = tests.wr;
+    bool hit_any = false;
+    ShapeHit h;
+    // Leaves start at multiples of four and hold at most four: one block of each kind.
+    static_assert(Bvh::kLeafAlignment == 4 && Bvh::kMaxLeafSize <= 4);
+    const unsigned lanes = (1u << (end - first)) - 1u;
+    if (tests.triangle_blocks) {
+        // The leaf's triangles, four at once; a lane with an edge function of exactly zero is
+        // decided by the scalar test, which re-evaluates it in double.
+        const TriangleBlock& block = triangle_blocks_[first / 4];
+        TriangleHits4 th;
+        unsigned recheck;
+        for (unsigned m = block.intersect(wr, t_max, th, recheck) & lanes; m != 0; m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            // Beyond a hit found in this leaf meanwhile? (By distance: the scalar test compares
+            // t_scaled with t_max det, which can differ in the last bit on near-ties.)
+            if (!(th.t[lane] < t_max)) continue;
+            h = {th.t[lane], th.u[lane], th.v[lane], th.det[lane] > 0.0f};
+            hit_any = true;
+            if (on_hit(first + lane, h)) return true;
+        }
+        for (unsigned m = recheck & lanes; m != 0; m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            if (!intersect_triangle(wr, block.vertex(lane, 0), block.vertex(lane, 1),
+                                    block.vertex(lane, 2), t_max, h))
+                continue;
+            hit_any = true;
+            if (on_hit(first + lane, h)) return true;
+        }
+    }
+    if (tests.quad_blocks) {
+        // The leaf's quads, four at once, with exactly intersect_quad's arithmetic.
+        QuadTerms<Float4> q;
+        for (unsigned m = quad_blocks_[first / 4].intersect(ray, t_max, q) & lanes; m != 0;
+             m &= m - 1) {
+            const int lane = std::countr_zero(m);
+            if (!(q.t[lane] < t_max)) continue;  // beyond a hit found in this leaf meanwhile
+            h = {q.t[lane], q.a[lane], q.b[lane], q.denom[lane] < 0.0f};
+            hit_any = true;
+            if (on_hit(first + lane, h)) return true;
+        }
+    }
+    // One by one: spheres, and triangles under --naive moller-trumbore.
+    if (!tests.one_by_one) return hit_any;
+    for (uint32_t k = first; k < end; ++k) {
+        const ShapeKind kind = prims_[k].kind();
+        if (kind == ShapeKind::Quad || (tests.triangle_blocks && kind == ShapeKind::Triangle))
+            continue;
+        if (!intersect_primitive(k, ray, wr, t_max, h)) continue;
+        hit_any = true;
+        if (on_hit(k, h)) return true;
+    }
+    return hit_any;
+}
+
+std::optional<Hit> Scene::intersect(const Ray& ray) const {
+    ++t_rays_traced;
+    const RayTests tests = ray_tests(ray);
+    ShapeHit best;
+    uint32_t best_k = 0;  // its position in the primitive order: prims_ is read once, at the end
+    const bool found = bvh_.closest_hit(ray, [&](uint32_t first, uint32_t end, float& t_max) {
+        return intersect_leaf(tests, first, end, ray, t_max, [&](uint32_t k, const ShapeHit& h) {
+            t_max = h.t;  // nearer hits only from now on
+            best = h;
+            best_k = k;
+            return false;
+        });
+    });
+    if (!found) return std::nullopt;
+    return Hit{best, prims_[best_k]};
+}
+
+bool Scene::occluded(const Ray& ray, std::optional<PrimRef> target) const {
+    ++t_rays_traced;
+    const RayTests tests = ray_tests(ray);
+    return bvh_.any_hit(ray, [&](uint32_t first, uint32_t end) {
+        bool blocked = false;
+        float t_max = ray.t_max;
+        intersect_leaf(tests, first, end, ray, t_max, [&](uint32_t k, const ShapeHit&) {
+            blocked = !(target && prims_[k] == *target);
+            return blocked;  // stop at the first blocker
+        });
+        return blocked;
+    });
+}
+
+SurfaceInteraction Scene::interaction(const Ray& ray, const Hit& hit) const {
+    SurfaceGeometry g;
+    switch (hit.prim.kind()) {
+        case ShapeKind::Sphere:
+            g = sphere_surface(spheres_[hit.prim.index()], ray, hit.shape);
+            break;
+        case ShapeKind::Quad: g = quad_surface(quads_[hit.prim.index()], hit.shape); break;
+        case ShapeKind::Triangle: {
+            const Triangle& t = triangles_[hit.prim.index()];
+            const float b1 = hit.shape.u, b2 = hit.shape.v, b0 = 1.0f - b1 - b2;
+            const Vec3 &p0 = positions_[t.v[0]], &p1 = positions_[t.v[1]], &p2 = positions_[t.v[2]];
+            // Barycentric interpolation: the point's error is bounded by the vertices', not by
+            // the length of the ray.
+            g.p = b0 * p0 + b1 * p1 + b2 * p2;
+            g.p_error =
+                gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
+            g.n_geo = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+            g.n_shading = g.n_geo;
+            if (t.smooth) {
+                const Vec3 n =
+                    b0 * normals_[t.v[0]] + b1 * normals_[t.v[1]] + b2 * normals_[t.v[2]];
+                const float len = glm::length(n);
+                if (len > 0.0f && std::isfinite(len)) {
+                    g.n_shading = n / len;
+                    // Keep the shading normal on the geometric normal's side.
+                    if (glm::dot(g.n_shading, g.n_geo) < 0.0f) g.n_shading = -g.n_shading;
+                }
+            }
+            g.uv = uvs_.empty() ? Vec2(b1, b2)
+                                : b0 * uvs_[t.v[0]] + b1 * uvs_[t.v[1]] + b2 * uvs_[t.v[2]];
+            break;
+        }
+    }
+    SurfaceInteraction si;
+    si.p = g.p;
+    si.p_error = g.p_error;
+    if (naive.fixed_epsilon > 0.0f) {
+        // The textbook way: the hit at o + t d, moved off by a fixed distance (about epsilon).
+        si.p = ray.at(hit.shape.t);
+        si.p_error = Vec3(naive.fixed_epsilon / 1.5f);
+    }
+    si.n_geo = g.n_geo;
+    si.n_shading = g.n_shading;
+    si.uv = g.uv;
+    si.wo = -glm::normalize(ray.dir);
+    si.t = hit.shape.t;
+    si.material = material_of(hit.prim);
+    si.prim = hit.prim;
+    si.front = hit.shape.front;
+    // The textbook way: the side from the sign of a dot product, which a grazing ray can flip.
+    if (naive.side_by_dot) si.front = glm::dot(ray.dir, g.n_geo) < 0.0f;
+    si.shading_fallback = !naive.raw_shading_normals;
+    return si;
+}
+
+size_t Scene::geometry_bytes() const {
+    auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    return bytes(spheres_) + bytes(sphere_materials_) + bytes(quads_) + bytes(quad_materials_) +
+           bytes(positions_) + bytes(normals_) + bytes(uvs_) + bytes(triangles_) + bytes(prims_) +
+           bytes(triangle_blocks_) + bytes(quad_blocks_) + bvh_.memory_bytes();
+}
+
+Color Scene::emitted(const SurfaceInteraction& si) const {
+    const Material& m = materials_[si.material];
+    if (!m.is_emissive()) return Color(0.0f);
+    if (!m.two_sided && !si.front_face()) return Color(0.0f);
+    return m.emission;
+}
+
+SceneContents Scene::contents() const {
+    SceneContents c;
+    c.point_lights = !point_lights_.empty();
+    c.area_lights = !area_lights_.empty();
+    c.environment = !is_black(background);
+    auto delta = [&](uint32_t m) {
+        return materials_[m].type == MaterialType::Mirror ||
+               materials_[m].type == MaterialType::Glass;
+    };
+    for (uint32_t m : sphere_materials_) c.delta_materials |= delta(m);
+    for (uint32_t m : quad_materials_) c.delta_materials |= delta(m);
+    for (const Triangle& t : triangles_) c.delta_materials |= delta(t.material);
+    for (const PointLight& l : point_lights_) {
+        const Vec3 d = l.position - camera.position();
+        if (glm::dot(d, d) > 0.0f)
+            c.point_light_in_view |=
+                camera.raster_position(glm::normalize(d), width, height).has_value();
+    }
+    return c;
+}
+
+}  // namespace lessons

@@ -1,0 +1,212 @@
+// The scene: shapes, materials, lights, camera and the BVH over all shapes.
+//
+// Shapes are kept in one array per kind (spheres, quads, triangles), so a scene of spheres pays
+// only for spheres; a primitive is named by a PrimRef (kind and index). Lessons ask two
+// questions of a scene: the nearest hit along a ray (intersect) and whether anything lies on a
+// segment (occluded). The full description of a hit (interaction) is computed once, for the
+// nearest hit only.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "accel/bvh.h"
+#include "geometry/math.h"
+#include "geometry/shapes.h"
+#include "geometry/spawn.h"
+#include "materials/material.h"
+#include "render/camera.h"
+
+namespace lessons {
+
+enum class ShapeKind : uint32_t { Sphere = 0, Quad = 1, Triangle = 2 };
+
+// A primitive: its kind in the top two bits, its index in that kind's array below.
+struct PrimRef {
+    uint32_t bits = 0;
+    PrimRef() = default;
+    PrimRef(ShapeKind kind, uint32_t index) : bits((static_cast<uint32_t>(kind) << 30) | index) {}
+    ShapeKind kind() const { return static_cast<ShapeKind>(bits >> 30); }
+    uint32_t index() const { return bits & 0x3fffffffu; }
+    bool operator==(const PrimRef&) const = default;
+};
+
+// One triangle of a mesh: three indices into the scene's vertex arrays.
+struct Triangle {
+    uint32_t v[3];
+    uint32_t material;
+    bool smooth;  // interpolate the vertex normals for shading
+};
+
+struct Hit {
+    ShapeHit shape;  // t and surface parameters
+    PrimRef prim;
+};
+
+// Everything a lesson needs to shade a hit point.
+struct SurfaceInteraction {
+    Vec3 p;          // position
+    Vec3 p_error;    // per-axis bound on the rounding error of p (for spawning rays)
+    Vec3 n_geo;      // unit geometric normal, the shape's outward (front) side
+    Vec3 n_shading;  // unit shading normal, same side as n_geo
+    Vec2 uv;         // texture coordinates
+    Vec3 wo;         // unit direction back along the incoming ray (points away from the surface)
+    float t;         // ray parameter of the hit
+    uint32_t material;
+    PrimRef prim;
+    bool front = true;  // the ray arrived on n_geo's side (decided by the intersection test)
+    bool shading_fallback = true;  // false only under --naive shading-normals
+
+    bool front_face() const { return front; }
+    SurfacePoint surface_point() const { return {p, p_error, n_geo}; }
+};
+
+struct PointLight {
+    Vec3 position;
+    Color intensity;  // radiant intensity, W/sr, the same in every direction
+};
+
+// An emissive surface. Its radiance comes from its material; the geometry summary here is
+// what every lesson needs to treat it as a light.
+struct AreaLight {
+    PrimRef prim;
+    uint32_t material;
+    Color radiance;  // emitted radiance L_e, W / (sr m^2)
+    bool two_sided;
+    float area;              // m^2
+    Vec3 center;             // centroid (sphere: its center)
+    Vec3 center_error;       // rounding-error bound of center (for shadow rays ending on it)
+    Vec3 normal;             // unit emitting normal (zero for spheres, which emit all around)
+    bool rectangle = false;  // a quad with orthogonal edges: sampled by solid angle (lights.h)
+};
+
+// The naive methods that the robust ones replace, kept so their failures can be shown
+// (docs/robustness.md; the --naive flag). All off by default.
+struct NaiveMethods {
+    float fixed_epsilon = 0.0f;        // > 0: spawned rays start this far off the surface, at the
+                                       // point o + t d, instead of beyond its rounding error
+    bool textbook_quadratic = false;   // spheres by b^2 - 4ac in single precision
+    bool moller_trumbore = false;      // triangles by Moller-Trumbore, not watertight
+    bool side_by_dot = false;          // the side a ray hits from dot(d, n), not the hit test
+    bool raw_shading_normals = false;  // no fallback when the viewer is below the shading normal
+    bool light_abs_cosine = false;     // next-event estimation with |cos| at one-sided lights
+    bool any() const {
+        return fixed_epsilon > 0.0f || textbook_quadratic || moller_trumbore || side_by_dot ||
+               raw_shading_normals || light_abs_cosine;
+    }
+};
+
+// What a scene holds, as far as a lesson's model cares (for its notes and its bias).
+struct SceneContents {
+    bool point_lights = false;
+    bool area_lights = false;
+    bool environment = false;      // a background of nonzero radiance
+    bool delta_materials = false;  // a mirror or glass on some shape
+    bool point_light_in_view = false;  // a point light the camera sees (unless something hides it)
+};
+
+// Rays traced by the calling thread since it started: the render loop reads the difference.
+uint64_t rays_traced_by_this_thread();
+
+class Scene {
+public:
+    // ---- building ----
+    uint32_t add_material(const Material& m);
+    void add_sphere(const Sphere& s, uint32_t material);
+    void add_quad(const Quad& q, uint32_t material);
+    // Appends vertices and triangles. normals: empty, or one unit normal per position.
+    // uvs: empty, or one per position. Triangles index the given positions from 0.
+    void add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                  const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles);
+    void add_point_light(const PointLight& l) { point_lights_.push_back(l); }
+    // Builds the BVH and the list of area lights. Call once, after adding every shape.
+    void commit();
+
+    // ---- queries ----
+    std::optional<Hit> intersect(const Ray& ray) const;
+    // Whether anything blocks the segment. `target`: the primitive the segment ends on (an area
+    // light), which cannot block it: offsets alone cannot guarantee that when the segment is
+    // much longer than the light's coordinates are large.
+    bool occluded(const Ray& ray, std::optional<PrimRef> target = std::nullopt) const;
+    SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
+    // Emitted radiance L_e(p, wo) leaving the hit point towards wo.
+    Color emitted(const SurfaceInteraction& si) const;
+
+    // ---- contents ----
+    const std::vector<Material>& materials() const { return materials_; }
+    const Material& material(uint32_t i) const { return materials_[i]; }
+    const std::vector<PointLight>& point_lights() const { return point_lights_; }
+    const std::vector<AreaLight>& area_lights() const { return area_lights_; }
+    const std::vector<Sphere>& spheres() const { return spheres_; }
+    const std::vector<Quad>& quads() const { return quads_; }
+    const std::vector<Triangle>& triangles() const { return triangles_; }
+    const std::vector<Vec3>& positions() const { return positions_; }
+    const Bvh& bvh() const { return bvh_; }
+    size_t primitive_count() const { return spheres_.size() + quads_.size() + triangles_.size(); }
+    uint32_t material_of(PrimRef prim) const;
+    Bounds3 primitive_bounds(PrimRef prim) const;
+    Bounds3 bounds() const { return bvh_.bounds(); }
+    // Bytes held for intersection: shapes, vertices, triangles and the BVH (not materials).
+    size_t geometry_bytes() const;
+    // The kinds of lights, and whether any shape has a delta material (mirror, glass).
+    SceneContents contents() const;
+
+    // ---- what is seen and how ----
+    Camera camera;
+    int width = 0, height = 0;
+    Color background{0.0f};  // radiance of every ray that escapes the scene
+    NaiveMethods naive;      // for demonstrations only
+    std::string source;      // the file it came from, for messages and reports
+
+private:
+    // The three steps of commit(): the BVH over every primitive's box; the area lights (one per
+    // emissive primitive of nonzero area); the primitives and their SIMD blocks in BVH order.
+    void build_bvh();
+    void collect_area_lights();
+    void store_in_bvh_order();
+    AreaLight area_light_of(PrimRef p, uint32_t material) const;
+
+    // Tests the primitive at position k of the BVH's order.
+    bool intersect_primitive(uint32_t k, const Ray& ray, const WatertightRay& wr, float t_max,
+                             ShapeHit& hit) const;
+
+    // What every leaf of one ray's query needs, prepared once per ray: the ray's shear frame for
+    // the watertight triangle test (three divisions: only scenes with triangles pay for it), and
+    // which kinds of tests the leaves need.
+    struct RayTests {
+        WatertightRay wr;
+        bool triangle_blocks;  // triangles four at once (not under --naive moller-trumbore)
+        bool quad_blocks;      // quads four at once
+        bool one_by_one;       // spheres, or triangles under --naive moller-trumbore
+    };
+    RayTests ray_tests(const Ray& ray) const;
+
+    // Tests the primitives of one BVH leaf, positions [first, end), within (0, t_max); calls
+    // on_hit(k, hit) for each hit found, and stops when it returns true. A closest-hit query's
+    // on_hit lowers t_max to the hit's distance.
+    template <class OnHit>
+    bool intersect_leaf(const RayTests& tests, uint32_t first, uint32_t end, const Ray& ray,
+                        float& t_max, OnHit&& on_hit) const;
+
+    std::vector<Material> materials_;
+    std::vector<Sphere> spheres_;
+    std::vector<uint32_t> sphere_materials_;
+    std::vector<Quad> quads_;
+    std::vector<uint32_t> quad_materials_;
+    std::vector<Vec3> positions_;
+    std::vector<Vec3> normals_;  // empty, or one per position
+    std::vector<Vec2> uvs_;      // empty, or one per position
+    std::vector<Triangle> triangles_;
+    std::vector<PrimRef> prims_;                      // in the BVH's primitive order
+    LargePageVector<TriangleBlock> triangle_blocks_;  // vertices of positions 4b..4b+3; empty
+                                                      // without triangles; other lanes NaN
+    LargePageVector<QuadBlock> quad_blocks_;          // the same for quads
+
+    std::vector<PointLight> point_lights_;
+    std::vector<AreaLight> area_lights_;
+    Bvh bvh_;
+};
+
+}  // namespace lessons
