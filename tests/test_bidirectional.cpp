@@ -14,8 +14,8 @@ using test::image_mean;
 namespace {
 
 // z-tests in this file: point-light caustic 2, furnace 3 + 3, strategies 9, light tracing 1,
-// pixel-by-pixel image means 5.
-const double kSignificance = test::sidak(0.01, 23);
+// pixel-by-pixel image means 6.
+const double kSignificance = test::sidak(0.01, 24);
 
 RenderResult render_lesson5(const Scene& scene, const BidirOptions& options, int spp,
                             uint64_t seed, int threads = 0) {
@@ -50,9 +50,10 @@ Scene furnace(float rho, float Le) {
     return scene;
 }
 
-// |a - b| against the standard error of the difference.
+// |a - b| against the standard error of the difference (floored: an estimate with no variance,
+// such as a furnace seen one segment deep, must then match to rounding).
 double z_score(double a, double var_a, double b, double var_b = 0.0) {
-    return std::fabs(a - b) / std::sqrt(var_a + var_b);
+    return std::fabs(a - b) / std::sqrt(std::max(var_a + var_b, 1e-14));
 }
 
 }  // namespace
@@ -139,18 +140,31 @@ TEST(Bidirectional, AgreesWithPathTracingPixelByPixelWhereThatIsUnbiased) {
     //    one-unit gap, which light subpaths find and camera paths hardly do);
     //  - three spheres under a sky (the environment: s = 0 and s = 1 only);
     //  - Veach's glossy plates and spherical lights;
-    //  - a low-poly sphere with interpolated normals (the adjoint shading-normal correction).
-    const std::pair<const char*, int> cases[] = {{"/scenes/cornell_box.toml", 16},
-                                                 {"/scenes/cornell_box_rtiow.toml", 16},
-                                                 {"/scenes/sky.toml", 16},
-                                                 {"/scenes/veach_mis.toml", 16},
-                                                 {"/scenes/hard/lowpoly_sphere.toml", 16}};
-    for (const auto& [file, size] : cases) {
+    //  - a low-poly sphere with interpolated normals (the adjoint shading-normal correction);
+    //  - the box with a mirror and a glass sphere (chains of delta vertices in the weights), by
+    //    its image mean only: there lesson 4 finds the caustics by chance, and its per-pixel
+    //    values are so skewed that their sample variance is too low (at 4096 spp, 11 of 432
+    //    channels failed, every one with lesson 4 below; lesson 5 against a render with pbrt's
+    //    weights, which leave the chains out, passed on all 432).
+    struct Case {
+        const char* file;
+        int size;
+        bool per_pixel;
+    };
+    const Case cases[] = {{"/scenes/cornell_box.toml", 16, true},
+                          {"/scenes/cornell_box_rtiow.toml", 16, true},
+                          {"/scenes/sky.toml", 16, true},
+                          {"/scenes/veach_mis.toml", 16, true},
+                          {"/scenes/hard/lowpoly_sphere.toml", 16, true},
+                          {"/scenes/cornell_spheres.toml", 12, false}};
+    for (const auto& [file, size, per_pixel] : cases) {
         const Scene scene = load_scene(std::string(LESSONS_SOURCE_DIR) + file, {size, size});
         const RenderResult five = render_lesson5(scene, {}, 1024, 7);
         const RenderResult four = render_lesson4(scene, {}, 4096, 8);
         const auto [passed, tested] = channels_that_agree(five, four);
-        EXPECT_GE(passed, 0.9975 * tested) << passed << " of " << tested << " in " << file;
+        if (per_pixel) {
+            EXPECT_GE(passed, 0.9975 * tested) << passed << " of " << tested << " in " << file;
+        }
         EXPECT_EQ(five.nan_samples + five.inf_samples, 0u) << file;
         const auto [m5, v5] = image_mean(five.image, five.variance);
         const auto [m4, v4] = image_mean(four.image, four.variance);
@@ -231,3 +245,4 @@ TEST(Bidirectional, LightSubpathsLowerTheVarianceUnderTheCeilingOfTheRtiowBox) {
         }
     EXPECT_LT(v5, 0.5 * v4) << "variance of the ceiling's pixels: " << v5 << " against " << v4;
 }
+

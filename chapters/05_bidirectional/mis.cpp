@@ -22,6 +22,41 @@ double nonzero(double pdf) {
     return pdf != 0.0 ? pdf : 1.0;
 }
 
+// |cos| at vertex v of the segment towards w (1 at a point: the camera, a point light).
+double abs_cos(const Vertex& v, const Vertex& w) {
+    return v.n == Vec3(0.0f) ? 1.0 : std::fabs(glm::dot(v.n, direction(v, w)));
+}
+
+// A chain of mirror or glass vertices x_i .. x_j between two vertices that scatter
+// non-deltas, x_{i-1} and x_{j+1}, is made the same way from both sides, so its own densities
+// are left out (1). What differs is where the chain lands: a direction sampled at x_{i-1} with
+// density p (per steradian) reaches x_{j+1} with density p |cos| / D^2 per unit area, D the
+// chain's unfolded length (exact for flat mirrors; curved glass also focuses, which this leaves
+// out). Without it, a vertex right beside a glass ball (a floor it touches) would look far
+// likelier to be found from the camera than it is.
+template <class VertexAt>
+void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) {
+    for (int i = 1; i < n - 1; ++i) {
+        if (!d[i].delta) continue;
+        int j = i;
+        while (j + 1 < n - 1 && d[j + 1].delta) ++j;
+        const Vertex &before = x(i - 1), &after = x(j + 1);
+        if (!before.infinite) {
+            double unfolded = 0.0;
+            for (int k = i - 1; k <= j; ++k) unfolded += glm::length(x(k + 1).p - x(k).p);
+            // p at x_{i-1} from x_i's density, and p at x_{j+1} from x_j's, back to solid angle.
+            const double d_first = glm::length(x(i).p - before.p);
+            const double d_last = glm::length(after.p - x(j).p);
+            const double light_side = d[i].from_light * d_first * d_first / abs_cos(x(i), before);
+            const double camera_side = d[j].from_camera * d_last * d_last / abs_cos(x(j), after);
+            d[j + 1].from_light = light_side * abs_cos(after, x(j)) / (unfolded * unfolded);
+            d[i - 1].from_camera = camera_side * abs_cos(before, x(i)) / (unfolded * unfolded);
+        }
+        for (int k = i; k <= j; ++k) d[k].from_light = d[k].from_camera = 1.0;
+        i = j;
+    }
+}
+
 }  // namespace
 
 float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
@@ -55,6 +90,7 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // The join's ends are joined, not scattered.
     d[s].delta = false;
     if (q) d[s - 1].delta = false;
+    through_delta_chains(x, n, d);
 
     // The light sample (s = 1, t >= 2) picks x_0 with its own density, not the light subpath's
     // start: strategy 1 has it in place of p_L(x_0), and the ratios between strategies 0, 1 and 2

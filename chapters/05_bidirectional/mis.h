@@ -16,9 +16,10 @@
 // has no density to meet), s = 0 for a point light (no camera path hits a point), and for the
 // environment, which starts no light subpaths, all but s = 0 and the light sample (s = 1,
 // t >= 2). A delta choice (mirror, glass) is the same
-// from both sides, so its densities are left out of every ratio (taken as 1). The light sample
-// (s = 1) picks x_0 by lesson 3's density (by solid angle where it can), the light subpath by
-// the light's area: each strategy's ratio uses its own.
+// from both sides, so its densities are left out of every ratio (taken as 1), and the vertices on
+// either side of a chain of them get the densities of the whole chain's unfolded length. The
+// light sample (s = 1) picks x_0 by lesson 3's density (by solid angle where it can), the light
+// subpath by the light's area: each strategy's ratio uses its own.
 #pragma once
 
 #include <span>
