@@ -30,16 +30,16 @@ TEST(AllScenes, EveryLessonRendersEverySceneWithoutNaNOrInf) {
         fs::temp_directory_path() / ("lessons_all_scenes_" + std::to_string(getpid()));
     fs::create_directories(dir);
     int scenes = 0, runs = 0;
-    for (const auto& entry : fs::recursive_directory_iterator(std::string(LESSONS_SOURCE_DIR) +
-                                                              "/scenes")) {
+    for (const auto& entry :
+         fs::recursive_directory_iterator(std::string(LESSONS_SOURCE_DIR) + "/scenes")) {
         if (entry.path().extension() != ".toml") continue;
         ++scenes;
         for (const lessons::test::RegisteredLesson& lesson : lessons::test::registered_lessons()) {
             std::vector<std::string> flag_sets = {""};
             flag_sets.insert(flag_sets.end(), lesson.variants.begin(), lesson.variants.end());
             for (const std::string& flags : flag_sets) {
-                const std::string what = lesson.name + " " + flags + " on " +
-                                         entry.path().filename().string();
+                const std::string what =
+                    lesson.name + " " + flags + " on " + entry.path().filename().string();
                 const fs::path report = dir / ("run" + std::to_string(++runs) + ".json");
                 const std::string command = std::string(LESSONS_BIN_DIR) + "/" + lesson.name +
                                             " --scene " + entry.path().string() +

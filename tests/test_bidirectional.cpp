@@ -17,8 +17,8 @@ namespace {
 // pixel-by-pixel image means 6.
 const double kSignificance = test::sidak(0.01, 24);
 
-RenderResult render_lesson5(const Scene& scene, const BidirOptions& options, int spp,
-                            uint64_t seed, int threads = 0) {
+RenderResult render_lesson5(const Scene& scene, const BidirOptions& options, int spp, uint64_t seed,
+                            int threads = 0) {
     const LightSampler lights(scene);
     RenderSettings settings;
     settings.progress = false;
@@ -121,8 +121,8 @@ TEST(Bidirectional, PointLightSeenInAMirrorLightsTheFloorAsItsImageSourceDoes) {
     const RenderResult five = render_lesson5(scene, {}, 1024, 3);
     const auto [m5, v5] = image_mean(five.image, five.variance);
     EXPECT_LT(z_score(m5, v5, total), test::z_quantile(kSignificance))
-        << "lesson 5: " << m5 << " (standard error " << std::sqrt(v5) << "), closed form "
-        << total << " (direct alone " << direct << ")";
+        << "lesson 5: " << m5 << " (standard error " << std::sqrt(v5) << "), closed form " << total
+        << " (direct alone " << direct << ")";
 
     const RenderResult four = render_lesson4(scene, {}, 1024, 4);
     const auto [m4, v4] = image_mean(four.image, four.variance);
@@ -245,4 +245,3 @@ TEST(Bidirectional, LightSubpathsLowerTheVarianceUnderTheCeilingOfTheRtiowBox) {
         }
     EXPECT_LT(v5, 0.5 * v4) << "variance of the ceiling's pixels: " << v5 << " against " << v4;
 }
-

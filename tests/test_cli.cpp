@@ -135,12 +135,11 @@ TEST(Cli, PathTracingSaysWhatItCannotRenderAndPointsToLessonFive) {
 TEST(Cli, BidirectionalStrategyImagesAddUpAndItsFlagsAreChecked) {
     const fs::path dir = fresh_dir("lesson5");
     const std::string lesson = kBin + "/05_bidirectional --width 16 --height 16 --spp 2 ";
-    const RunResult r = run(lesson + "--strategies 2 --scene " + kSource +
-                            "/scenes/cornell_spheres.toml --out " + (dir / "s").string() +
-                            " --report " + (dir / "s.json").string());
+    const RunResult r =
+        run(lesson + "--strategies 2 --scene " + kSource + "/scenes/cornell_spheres.toml --out " +
+            (dir / "s").string() + " --report " + (dir / "s.json").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    for (const char* layer :
-         {"s0_t2", "s1_t1", "s0_t3", "s1_t2", "s2_t1", "segments3plus"})
+    for (const char* layer : {"s0_t2", "s1_t1", "s0_t3", "s1_t2", "s2_t1", "segments3plus"})
         EXPECT_TRUE(fs::exists(dir / (std::string("s_") + layer + ".exr"))) << layer;
     const std::string report = read_file(dir / "s.json");
     for (const char* field : {"\"splat_bytes\"", "\"biased\": false", "\"layers\""})
@@ -158,8 +157,7 @@ TEST(Cli, BidirectionalStrategyImagesAddUpAndItsFlagsAreChecked) {
     const RunResult tracing = run(lesson + "--light-tracing --scene " + kSource +
                                   "/scenes/cornell_spheres.toml --out " + (dir / "t").string());
     ASSERT_EQ(tracing.exit_code, 0) << tracing.output;
-    EXPECT_NE(tracing.output.find("light tracing cannot show mirrors and glass"),
-              std::string::npos)
+    EXPECT_NE(tracing.output.find("light tracing cannot show mirrors and glass"), std::string::npos)
         << tracing.output;
     const RunResult help = run(kBin + "/05_bidirectional --help");
     for (const char* flag :

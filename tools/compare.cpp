@@ -178,8 +178,8 @@ int main(int argc, char** argv) {
             // renders: what is left after the variances is the error more samples cannot remove.
             double noise = mean_value(read_image(variance_path), variance_path, image);
             if (!reference_variance_path.empty())
-                noise += mean_value(read_image(reference_variance_path), reference_variance_path,
-                                    image);
+                noise +=
+                    mean_value(read_image(reference_variance_path), reference_variance_path, image);
             std::printf(", \"noise_mse\": %.9g, \"bias2\": %.9g", noise, m.mse - noise);
         }
         if (!second_half.empty()) {

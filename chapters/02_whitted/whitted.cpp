@@ -13,8 +13,9 @@ namespace {
 // Follows one specular branch: the ray from the surface along `dir`, carrying `weight`
 // (R, F or (1 - F) / eta^2). A branch past the depth limit, or too faint to matter, stops
 // and contributes nothing.
-Color follow(const Scene& scene, const SurfaceInteraction& si, const Vec3& dir, const Color& weight,
-             const WhittedOptions& options, int depth, const Color& attenuation) {
+Color trace_branch(const Scene& scene, const SurfaceInteraction& si, const Vec3& dir,
+                   const Color& weight, const WhittedOptions& options, int depth,
+                   const Color& attenuation) {
     const Color branch_attenuation = attenuation * weight;
     if (depth + 1 > options.max_bounces) return Color(0.0f);
     if (max_component(branch_attenuation) < options.min_attenuation) return Color(0.0f);
@@ -37,8 +38,8 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
     switch (material.type) {
         case MaterialType::Mirror: {
             // L = R * L(p, reflect(wo))
-            L += follow(scene, si, reflect(si.wo, n), material.reflectance, options, depth,
-                        attenuation);
+            L += trace_branch(scene, si, reflect(si.wo, n), material.reflectance, options, depth,
+                              attenuation);
             break;
         }
         case MaterialType::Glass: {
@@ -48,14 +49,14 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
             const float F =
                 options.schlick ? fresnel_schlick(cos_i, eta) : fresnel_dielectric(cos_i, eta);
             // F * L(p, reflect(wo)): the reflected part (all of it past the critical angle).
-            L += follow(scene, si, reflect(si.wo, n), Color(F), options, depth, attenuation);
+            L += trace_branch(scene, si, reflect(si.wo, n), Color(F), options, depth, attenuation);
             // (1 - F) / eta^2 * L(p, refract(wo)): radiance divided by n^2 is what an interface
             // conserves, so crossing into a denser medium compresses the beam's solid angle.
             if (F < 1.0f)
                 if (const std::optional<Vec3> wt = refract(si.wo, n, eta))
-                    L += follow(scene, si, *wt,
-                                material.transmittance * ((1.0f - F) / (eta * eta)), options,
-                                depth, attenuation);
+                    L += trace_branch(scene, si, *wt,
+                                      material.transmittance * ((1.0f - F) / (eta * eta)), options,
+                                      depth, attenuation);
             break;
         }
         case MaterialType::Diffuse:

@@ -24,9 +24,9 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
 
     Color beta(1.0f);  // path throughput: product of f cos / p along the path so far
     Ray ray = camera_ray;
-    bool specular = true;         // the last direction came from a delta BSDF (or the camera)
-    Vec3 previous{0.0f};          // the vertex the ray left
-    float previous_pdf = 0.0f;    // the BSDF's solid-angle density of the ray's direction there
+    bool specular = true;       // the last direction came from a delta BSDF (or the camera)
+    Vec3 previous{0.0f};        // the vertex the ray left
+    float previous_pdf = 0.0f;  // the BSDF's solid-angle density of the ray's direction there
     for (int bounce = 0;; ++bounce) {
         const int segments = bounce + 1;  // this ray is the path's segment number `segments`
         const std::optional<Hit> hit = scene.intersect(ray);

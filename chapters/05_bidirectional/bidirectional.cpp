@@ -35,9 +35,8 @@ Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
             if (is_black(c.L)) continue;
             const Color contribution = weighted ? c.weight * c.L : c.L;
             const Color layer_share = options.unweighted_layers ? c.L : contribution;
-            const int layer = options.strategy_layers > 0
-                                  ? strategy_layer(s, t, options.strategy_layers)
-                                  : -1;
+            const int layer =
+                options.strategy_layers > 0 ? strategy_layer(s, t, options.strategy_layers) : -1;
             if (t == 1) {  // light tracing: onto the pixel the light vertex is seen in
                 splats.push_back({*c.pixel, 0, contribution});
                 if (layer >= 0)

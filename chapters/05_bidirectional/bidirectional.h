@@ -28,9 +28,9 @@
 namespace lessons {
 
 struct BidirOptions {
-    int max_depth = 0;          // 0: unlimited; else at most this many path segments
-    int roulette_after = 3;     // bounces before Russian roulette may end a subpath; < 0: never
-    int strategy_layers = 0;    // N > 0: a layer per strategy (s, t) of paths of 1 .. N segments
+    int max_depth = 0;        // 0: unlimited; else at most this many path segments
+    int roulette_after = 3;   // bounces before Russian roulette may end a subpath; < 0: never
+    int strategy_layers = 0;  // N > 0: a layer per strategy (s, t) of paths of 1 .. N segments
     bool unweighted_layers = false;  // those layers without their MIS weights
     bool light_tracing = false;      // the t = 1 strategies alone, unweighted
 };

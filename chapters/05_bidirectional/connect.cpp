@@ -35,7 +35,7 @@ Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
         light.p = z.p + ls->distance * ls->wi;
         light.point_light = true;
         light.pdf_fwd = ls->pdf;  // its choice probability
-    } else {  // the sky
+    } else {                      // the sky
         light.p = ls->wi;
         light.infinite = true;
         light.pdf_fwd = ls->pdf;
@@ -90,8 +90,7 @@ Color join(const Bidir& b, const Vertex& y, const Vertex& z) {
     if (!(d2 > 0.0f)) return Color(0.0f);
     const Vec3 w = d / std::sqrt(d2);  // y -> z
     const Color f_y = light_side_bsdf(y, w), f_z = z.bsdf->eval(z.si.wo, -w);
-    const Color L =
-        y.beta * f_y * (y.bsdf->abs_cos(w) * z.bsdf->abs_cos(w) / d2) * f_z * z.beta;
+    const Color L = y.beta * f_y * (y.bsdf->abs_cos(w) * z.bsdf->abs_cos(w) / d2) * f_z * z.beta;
     // z's own surface cannot block the segment (f_z would be 0 from behind it) and must not be
     // asked near t = 1, as next-event estimation's shadow rays ignore the light they end on.
     if (is_black(L) ||

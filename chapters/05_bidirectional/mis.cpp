@@ -80,11 +80,11 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // neighbours'. When s = 0, p is on a light: the light subpath would have started there.
     const Vertex* q = s > 0 ? &x(s - 1) : nullptr;
     const Vertex& p = x(s);
-    d[s].from_light = q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p)
-                        : light_origin_density(b, p);
+    d[s].from_light =
+        q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p) : light_origin_density(b, p);
     if (t > 1)
-        d[s + 1].from_light = q ? density_towards(b, p, q, x(s + 1))
-                                : light_emission_density(b, p, x(s + 1));
+        d[s + 1].from_light =
+            q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
     if (q) d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
     if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
     // The join's ends are joined, not scattered.
@@ -95,8 +95,7 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // The light sample (s = 1, t >= 2) picks x_0 with its own density, not the light subpath's
     // start: strategy 1 has it in place of p_L(x_0), and the ratios between strategies 0, 1 and 2
     // swap it in and out.
-    const double sampled_x0 =
-        n >= 3 ? nonzero(x(0).pdf_light_sample) : nonzero(d[0].from_light);
+    const double sampled_x0 = n >= 3 ? nonzero(x(0).pdf_light_sample) : nonzero(d[0].from_light);
     const double started_x0 = nonzero(d[0].from_light);
     auto from_light = [&](int i, int strategy) {
         return i == 0 && strategy == 1 ? sampled_x0 : nonzero(d[i].from_light);

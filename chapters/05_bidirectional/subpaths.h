@@ -37,8 +37,8 @@ struct Vertex {
     // Unit geometric normal: of the surface, or of a light's emitting side; zero for points (the
     // camera's pinhole, a point light) and for the environment.
     Vec3 n{0.0f};
-    bool infinite = false;     // the environment
-    bool point_light = false;  // a point light: a delta position, never hit by a camera path
+    bool infinite = false;           // the environment
+    bool point_light = false;        // a point light: a delta position, never hit by a camera path
     std::optional<PrimRef> emitter;  // a Light vertex on an emissive surface
     SurfaceInteraction si{};         // Surface vertices: the hit (si.wo points back along the
                                      // subpath)

@@ -71,7 +71,11 @@ void check_vertex_numbers(const std::string& path) {
 
 }  // namespace
 
-MeshData load_obj(const std::string& path) {
+namespace {
+
+// Parses the file with tinyobjloader (triangulated, materials from the MTL beside it); its
+// warnings go to stderr, its errors become an InputError.
+void parse_obj(const std::string& path, tinyobj::ObjReader& reader) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "OBJ file not found");
     if (std::filesystem::is_directory(path, ec))
@@ -81,7 +85,6 @@ MeshData load_obj(const std::string& path) {
     config.triangulate = true;
     config.vertex_color = false;
     config.mtl_search_path = std::filesystem::path(path).parent_path().string();
-    tinyobj::ObjReader reader;
     if (!reader.ParseFromFile(path, config)) {
         std::string err = reader.Error();
         while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
@@ -90,51 +93,68 @@ MeshData load_obj(const std::string& path) {
     std::istringstream warnings(reader.Warning());
     for (std::string line; std::getline(warnings, line);)
         if (!line.empty()) std::cerr << "warning: " << path << ": " << line << "\n";
+}
+
+// The mesh's vertices, one per distinct (position, normal, uv) triple of the file's indices.
+class ObjVertices {
+public:
+    ObjVertices(const std::string& path, const tinyobj::attrib_t& attrib, MeshData& mesh)
+        : path_(path), attrib_(attrib), mesh_(mesh) {}
+    uint32_t operator()(const tinyobj::index_t& idx) {
+        const bool has_normals = !attrib_.normals.empty(), has_uvs = !attrib_.texcoords.empty();
+        const int vi = idx.vertex_index;
+        const int ni = has_normals ? idx.normal_index : -1;
+        const int ti = has_uvs ? idx.texcoord_index : -1;
+        if (vi < 0 || 3 * static_cast<size_t>(vi) + 2 >= attrib_.vertices.size())
+            throw InputError(
+                path_, 0, "f",
+                "face refers to vertex " + std::to_string(vi + 1) + ", which does not exist");
+        const auto key = std::make_tuple(vi, ni, ti);
+        if (auto it = vertex_of_.find(key); it != vertex_of_.end()) return it->second;
+        const uint32_t id = static_cast<uint32_t>(mesh_.positions.size());
+        const std::vector<float>& v = attrib_.vertices;
+        mesh_.positions.emplace_back(v[3 * vi], v[3 * vi + 1], v[3 * vi + 2]);
+        if (has_normals) {
+            const std::vector<float>& n = attrib_.normals;
+            Vec3 normal(0.0f);
+            if (ni >= 0 && 3 * static_cast<size_t>(ni) + 2 < n.size())
+                normal = Vec3(n[3 * ni], n[3 * ni + 1], n[3 * ni + 2]);
+            const float len = glm::length(normal);
+            mesh_.normals.push_back(len > 0.0f && std::isfinite(len) ? normal / len : Vec3(0.0f));
+        }
+        if (has_uvs) {
+            Vec2 uv(0.0f);
+            if (ti >= 0 && 2 * static_cast<size_t>(ti) + 1 < attrib_.texcoords.size())
+                uv = Vec2(attrib_.texcoords[2 * ti], attrib_.texcoords[2 * ti + 1]);
+            mesh_.uvs.push_back(uv);
+        }
+        vertex_of_.emplace(key, id);
+        return id;
+    }
+
+private:
+    const std::string& path_;
+    const tinyobj::attrib_t& attrib_;
+    MeshData& mesh_;
+    std::map<std::tuple<int, int, int>, uint32_t> vertex_of_;
+};
+
+}  // namespace
+
+MeshData load_obj(const std::string& path) {
+    tinyobj::ObjReader reader;
+    parse_obj(path, reader);
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     MeshData mesh;
     for (const tinyobj::material_t& m : reader.GetMaterials())
         mesh.materials.push_back(from_mtl(m));
-
     for (size_t i = 0; i < attrib.vertices.size(); ++i)
         if (!std::isfinite(attrib.vertices[i]))
             throw InputError(
                 path, 0, "v",
                 "vertex " + std::to_string(i / 3 + 1) + " has a non-finite coordinate");
 
-    const bool has_normals = !attrib.normals.empty();
-    const bool has_uvs = !attrib.texcoords.empty();
-    std::map<std::tuple<int, int, int>, uint32_t> vertex_of;
-    auto vertex = [&](const tinyobj::index_t& idx) -> uint32_t {
-        const int vi = idx.vertex_index;
-        const int ni = has_normals ? idx.normal_index : -1;
-        const int ti = has_uvs ? idx.texcoord_index : -1;
-        if (vi < 0 || 3 * static_cast<size_t>(vi) + 2 >= attrib.vertices.size())
-            throw InputError(
-                path, 0, "f",
-                "face refers to vertex " + std::to_string(vi + 1) + ", which does not exist");
-        const auto key = std::make_tuple(vi, ni, ti);
-        if (auto it = vertex_of.find(key); it != vertex_of.end()) return it->second;
-        const uint32_t id = static_cast<uint32_t>(mesh.positions.size());
-        mesh.positions.emplace_back(attrib.vertices[3 * vi], attrib.vertices[3 * vi + 1],
-                                    attrib.vertices[3 * vi + 2]);
-        if (has_normals) {
-            Vec3 n(0.0f);
-            if (ni >= 0 && 3 * static_cast<size_t>(ni) + 2 < attrib.normals.size())
-                n = Vec3(attrib.normals[3 * ni], attrib.normals[3 * ni + 1],
-                         attrib.normals[3 * ni + 2]);
-            const float len = glm::length(n);
-            mesh.normals.push_back(len > 0.0f && std::isfinite(len) ? n / len : Vec3(0.0f));
-        }
-        if (has_uvs) {
-            Vec2 uv(0.0f);
-            if (ti >= 0 && 2 * static_cast<size_t>(ti) + 1 < attrib.texcoords.size())
-                uv = Vec2(attrib.texcoords[2 * ti], attrib.texcoords[2 * ti + 1]);
-            mesh.uvs.push_back(uv);
-        }
-        vertex_of.emplace(key, id);
-        return id;
-    };
-
+    ObjVertices vertex(path, attrib, mesh);
     for (const tinyobj::shape_t& shape : reader.GetShapes()) {
         const auto& indices = shape.mesh.indices;
         for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {

@@ -296,6 +296,97 @@ MaterialDescription parse_material(const toml::table& t, const std::string& file
     return d;
 }
 
+// The fields of each shape type, read into `s`; each returns the field names it allows.
+std::vector<std::string> read_sphere(TableReader& r, ShapeDescription& s) {
+    s.type = ShapeDescription::Type::Sphere;
+    s.center = r.vec3("center");
+    s.radius = static_cast<float>(r.number_in("radius", 0.0, kMaxCoordinate, true, false));
+    return {"center", "radius"};
+}
+
+std::vector<std::string> read_quad(TableReader& r, ShapeDescription& s) {
+    s.type = ShapeDescription::Type::Quad;
+    s.corner = r.vec3("corner");
+    s.edge_u = r.nonzero_vec3("edge_u");
+    s.edge_v = r.nonzero_vec3("edge_v");
+    const Vec3 n = glm::cross(s.edge_u, s.edge_v);
+    if (!(glm::dot(n, n) > 0.0f)) r.fail("edge_v", "is parallel to edge_u: the quad has no area");
+    return {"corner", "edge_u", "edge_v"};
+}
+
+std::vector<std::string> read_box(TableReader& r, ShapeDescription& s) {
+    s.type = ShapeDescription::Type::Box;
+    s.box_min = r.dvec3("min");
+    s.box_max = r.dvec3("max");
+    for (int i = 0; i < 3; ++i)
+        if (!(s.box_max[i] > s.box_min[i])) {
+            std::ostringstream m;
+            m << "must be greater than min on every axis; on "
+              << "xyz"[i] << ", max = " << s.box_max[i] << " <= min = " << s.box_min[i];
+            r.fail("max", m.str());
+        }
+    s.rotate_y = r.number("rotate_y", 0.0);
+    s.translate = r.dvec3("translate", glm::dvec3(0.0));
+    // The faces as they will be built: still within single-precision reach, and not so thin
+    // that an edge rounds to nothing.
+    for (const Quad& q : box_faces(s)) {
+        for (const Vec3& p :
+             {q.corner, q.corner + q.edge_u, q.corner + q.edge_v, q.corner + q.edge_u + q.edge_v})
+            if (max_component(glm::abs(p)) > kMaxCoordinate)
+                r.fail(r.has("translate") ? "translate" : "max",
+                       "the rotated and moved box is too large for single precision "
+                       "geometry (|x| must be at most 1e9)");
+        if (!(q.area() > 0.0f))
+            r.fail("max", "the box is too thin for single precision: a face has no area");
+    }
+    return {"min", "max", "rotate_y", "translate"};
+}
+
+// An inline mesh's faces: arrays of at least three indices into its vertices.
+void read_inline_faces(TableReader& r, ShapeDescription& s) {
+    const toml::array& faces = r.array("faces");
+    for (size_t i = 0; i < faces.size(); ++i) {
+        const toml::array* f = faces.get(i)->as_array();
+        const std::string which = "face " + std::to_string(i);
+        if (!f || f->size() < 3)
+            r.fail("faces", which + ": expected an array of at least 3 vertex indices");
+        std::vector<uint32_t> face;
+        for (size_t k = 0; k < f->size(); ++k) {
+            const toml::node& v = *f->get(k);
+            if (!v.is_integer()) r.fail("faces", which + ": indices must be integers");
+            const int64_t idx = *v.value<int64_t>();
+            if (idx < 0 || idx >= static_cast<int64_t>(s.vertices.size()))
+                r.fail("faces", which + ": index " + std::to_string(idx) + " is outside 0.." +
+                                    std::to_string(s.vertices.size() - 1));
+            face.push_back(static_cast<uint32_t>(idx));
+        }
+        s.faces.push_back(std::move(face));
+    }
+    if (s.faces.empty()) r.fail("faces", "a mesh needs at least one face");
+}
+
+std::vector<std::string> read_mesh(TableReader& r, ShapeDescription& s, const std::string& file) {
+    s.type = ShapeDescription::Type::Mesh;
+    if (r.has("file")) {
+        if (r.has("vertices") || r.has("faces"))
+            r.fail("file", "give either a file or inline vertices and faces, not both");
+        const std::filesystem::path rel = r.string("file");
+        s.file_where = r.where("file");
+        s.file = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
+                     .lexically_normal()
+                     .string();
+    } else {
+        if (!r.has("vertices") && !r.has("faces"))
+            r.fail("file", "missing: a mesh needs a file, or inline vertices and faces");
+        const toml::array& vertices = r.array("vertices");
+        for (size_t i = 0; i < vertices.size(); ++i)
+            s.vertices.push_back(r.vec3_of(*vertices.get(i), "vertices"));
+        read_inline_faces(r, s);
+        if (s.material.empty()) r.require("material");  // inline meshes have no MTL
+    }
+    return {"file", "vertices", "faces"};
+}
+
 ShapeDescription parse_shape(const toml::table& t, const std::string& file, size_t index) {
     const std::string path = "shapes[" + std::to_string(index) + "]";
     TableReader r(t, file, path);
@@ -308,109 +399,33 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
         s.material_where = r.where("material");
         if (s.material.empty()) r.fail("material", "must name a material, got an empty string");
     }
+    std::vector<std::string> fields;
     if (type == "sphere") {
-        s.type = ShapeDescription::Type::Sphere;
-        s.center = r.vec3("center");
-        s.radius = static_cast<float>(r.number_in("radius", 0.0, kMaxCoordinate, true, false));
-        allowed.insert(allowed.end(), {"center", "radius"});
+        fields = read_sphere(r, s);
     } else if (type == "quad") {
-        s.type = ShapeDescription::Type::Quad;
-        s.corner = r.vec3("corner");
-        s.edge_u = r.nonzero_vec3("edge_u");
-        s.edge_v = r.nonzero_vec3("edge_v");
-        const Vec3 n = glm::cross(s.edge_u, s.edge_v);
-        if (!(glm::dot(n, n) > 0.0f))
-            r.fail("edge_v", "is parallel to edge_u: the quad has no area");
-        allowed.insert(allowed.end(), {"corner", "edge_u", "edge_v"});
+        fields = read_quad(r, s);
     } else if (type == "box") {
-        s.type = ShapeDescription::Type::Box;
-        s.box_min = r.dvec3("min");
-        s.box_max = r.dvec3("max");
-        for (int i = 0; i < 3; ++i)
-            if (!(s.box_max[i] > s.box_min[i])) {
-                std::ostringstream m;
-                m << "must be greater than min on every axis; on "
-                  << "xyz"[i] << ", max = " << s.box_max[i] << " <= min = " << s.box_min[i];
-                r.fail("max", m.str());
-            }
-        s.rotate_y = r.number("rotate_y", 0.0);
-        s.translate = r.dvec3("translate", glm::dvec3(0.0));
-        // The faces as they will be built: still within single-precision reach, and not so thin
-        // that an edge rounds to nothing.
-        for (const Quad& q : box_faces(s)) {
-            for (const Vec3& p : {q.corner, q.corner + q.edge_u, q.corner + q.edge_v,
-                                  q.corner + q.edge_u + q.edge_v})
-                if (max_component(glm::abs(p)) > kMaxCoordinate)
-                    r.fail(r.has("translate") ? "translate" : "max",
-                           "the rotated and moved box is too large for single precision "
-                           "geometry (|x| must be at most 1e9)");
-            if (!(q.area() > 0.0f))
-                r.fail("max", "the box is too thin for single precision: a face has no area");
-        }
-        allowed.insert(allowed.end(), {"min", "max", "rotate_y", "translate"});
+        fields = read_box(r, s);
     } else if (type == "mesh") {
-        s.type = ShapeDescription::Type::Mesh;
-        allowed.insert(allowed.end(), {"file", "vertices", "faces"});
-        if (r.has("file")) {
-            if (r.has("vertices") || r.has("faces"))
-                r.fail("file", "give either a file or inline vertices and faces, not both");
-            const std::filesystem::path rel = r.string("file");
-            s.file_where = r.where("file");
-            s.file = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
-                         .lexically_normal()
-                         .string();
-        } else {
-            if (!r.has("vertices") && !r.has("faces"))
-                r.fail("file", "missing: a mesh needs a file, or inline vertices and faces");
-            const toml::array& vertices = r.array("vertices");
-            for (size_t i = 0; i < vertices.size(); ++i)
-                s.vertices.push_back(r.vec3_of(*vertices.get(i), "vertices"));
-            const toml::array& faces = r.array("faces");
-            for (size_t i = 0; i < faces.size(); ++i) {
-                const toml::array* f = faces.get(i)->as_array();
-                const std::string which = "face " + std::to_string(i);
-                if (!f || f->size() < 3)
-                    r.fail("faces", which + ": expected an array of at least 3 vertex indices");
-                std::vector<uint32_t> face;
-                for (size_t k = 0; k < f->size(); ++k) {
-                    const toml::node& v = *f->get(k);
-                    if (!v.is_integer()) r.fail("faces", which + ": indices must be integers");
-                    const int64_t idx = *v.value<int64_t>();
-                    if (idx < 0 || idx >= static_cast<int64_t>(s.vertices.size()))
-                        r.fail("faces", which + ": index " + std::to_string(idx) +
-                                            " is outside 0.." +
-                                            std::to_string(s.vertices.size() - 1));
-                    face.push_back(static_cast<uint32_t>(idx));
-                }
-                s.faces.push_back(std::move(face));
-            }
-            if (s.faces.empty()) r.fail("faces", "a mesh needs at least one face");
-            if (s.material.empty()) r.require("material");  // inline meshes have no MTL
-        }
+        fields = read_mesh(r, s, file);
     } else {
         const std::vector<std::string> types = {"sphere", "quad", "box", "mesh"};
-        r.fail("type",
-               "unknown shape type '" + type + "'" + did_you_mean(type, types) + known_names(types));
+        r.fail("type", "unknown shape type '" + type + "'" + did_you_mean(type, types) +
+                           known_names(types));
     }
+    allowed.insert(allowed.end(), fields.begin(), fields.end());
     r.reject_unknown(allowed, "a " + type);
     return s;
 }
 
-SceneDescription parse_table(const toml::table& root, const std::string& file) {
-    SceneDescription d;
-    d.file = file;
-    TableReader top(root, file, "");
-
-    if (top.has("description")) d.description = top.string("description");
-
-    const toml::table& image_table = top.table("image");
-    TableReader image(image_table, file, "image");
+// [image] and [camera], into d.
+void read_image_and_camera(TableReader& top, const std::string& file, SceneDescription& d) {
+    TableReader image(top.table("image"), file, "image");
     d.width = image.integer_in("width", 1, kMaxImageSide);
     d.height = image.integer_in("height", 1, kMaxImageSide);
     image.reject_unknown({"width", "height"}, "[image]");
 
-    const toml::table& camera_table = top.table("camera");
-    TableReader camera(camera_table, file, "camera");
+    TableReader camera(top.table("camera"), file, "camera");
     d.camera_where = {file, camera.line(), "camera"};
     d.camera_position = camera.vec3("position");
     d.camera_look_at = camera.vec3("look_at");
@@ -423,13 +438,53 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
     if (glm::dot(side, side) < 1e-10f)
         camera.fail("up", "is parallel to the viewing direction (look_at - position)");
     camera.reject_unknown({"position", "look_at", "up", "fov"}, "[camera]");
+}
 
+// Every table of an array of tables ([[shapes]], [[lights]]), with its index; an element that is
+// not a table is an error naming it.
+template <class ReadFn>
+void for_each_table(TableReader& top, const std::string& file, const std::string& key,
+                    ReadFn&& read) {
+    if (!top.has(key)) return;
+    const toml::array& tables = top.array(key);
+    for (size_t i = 0; i < tables.size(); ++i) {
+        const toml::table* t = tables.get(i)->as_table();
+        if (!t)
+            throw InputError(file, static_cast<int>(tables.get(i)->source().begin.line),
+                             key + "[" + std::to_string(i) + "]",
+                             "expected a table ([[" + key + "]])");
+        read(*t, i);
+    }
+}
+
+PointLightDescription parse_light(const toml::table& t, const std::string& file, size_t index) {
+    const std::string path = "lights[" + std::to_string(index) + "]";
+    TableReader l(t, file, path);
+    const std::string type = l.string("type");
+    if (type != "point") {
+        const std::vector<std::string> types = {"point"};
+        l.fail("type", "unknown light type '" + type + "'" + did_you_mean(type, types) +
+                           " (known: point; area lights are shapes with an emissive material)");
+    }
+    PointLightDescription p;
+    p.where = {file, l.line(), path};
+    p.light.position = l.vec3("position");
+    p.light.intensity = l.color("intensity", false);
+    l.reject_unknown({"type", "position", "intensity"}, "a point light");
+    return p;
+}
+
+SceneDescription parse_table(const toml::table& root, const std::string& file) {
+    SceneDescription d;
+    d.file = file;
+    TableReader top(root, file, "");
+    if (top.has("description")) d.description = top.string("description");
+    read_image_and_camera(top, file, d);
     if (top.has("background")) {
         TableReader bg(top.table("background"), file, "background");
         d.background = bg.color("radiance", false);
         bg.reject_unknown({"radiance"}, "[background]");
     }
-
     if (top.has("materials")) {
         for (const auto& [key, node] : top.table("materials")) {
             const std::string name(key.str());
@@ -440,44 +495,12 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
             d.materials.push_back(parse_material(*node.as_table(), file, name));
         }
     }
-
-    if (top.has("shapes")) {
-        const toml::array& shapes = top.array("shapes");
-        for (size_t i = 0; i < shapes.size(); ++i) {
-            const toml::table* t = shapes.get(i)->as_table();
-            if (!t)
-                throw InputError(file, static_cast<int>(shapes.get(i)->source().begin.line),
-                                 "shapes[" + std::to_string(i) + "]",
-                                 "expected a table ([[shapes]])");
-            d.shapes.push_back(parse_shape(*t, file, i));
-        }
-    }
-
-    if (top.has("lights")) {
-        const toml::array& lights = top.array("lights");
-        for (size_t i = 0; i < lights.size(); ++i) {
-            const std::string path = "lights[" + std::to_string(i) + "]";
-            const toml::table* t = lights.get(i)->as_table();
-            if (!t)
-                throw InputError(file, static_cast<int>(lights.get(i)->source().begin.line), path,
-                                 "expected a table ([[lights]])");
-            TableReader l(*t, file, path);
-            const std::string type = l.string("type");
-            if (type != "point") {
-                const std::vector<std::string> types = {"point"};
-                l.fail("type", "unknown light type '" + type + "'" + did_you_mean(type, types) +
-                                   " (known: point; area lights are shapes with an "
-                                   "emissive material)");
-            }
-            PointLightDescription p;
-            p.where = {file, l.line(), path};
-            p.light.position = l.vec3("position");
-            p.light.intensity = l.color("intensity", false);
-            l.reject_unknown({"type", "position", "intensity"}, "a point light");
-            d.point_lights.push_back(p);
-        }
-    }
-
+    for_each_table(top, file, "shapes", [&](const toml::table& t, size_t i) {
+        d.shapes.push_back(parse_shape(t, file, i));
+    });
+    for_each_table(top, file, "lights", [&](const toml::table& t, size_t i) {
+        d.point_lights.push_back(parse_light(t, file, i));
+    });
     top.reject_unknown(
         {"description", "image", "camera", "background", "materials", "shapes", "lights"},
         "the scene");

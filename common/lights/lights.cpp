@@ -242,13 +242,9 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
     if (lights_[light].kind == Kind::Point) {
         const PointLight& l = scene_.point_lights()[lights_[light].index];
         const Vec3 w = sample_uniform_sphere(u_dir);
-        return EmissionSample{Ray{l.position, w, kInfinity},
-                              l.position,
-                              Vec3(0.0f),
-                              l.intensity,
-                              choose,
-                              uniform_sphere_pdf(),
-                              std::nullopt};
+        return EmissionSample{
+            Ray{l.position, w, kInfinity}, l.position,  Vec3(0.0f), l.intensity, choose,
+            uniform_sphere_pdf(),          std::nullopt};
     }
     if (lights_[light].kind != Kind::Area) return std::nullopt;  // the environment
     const AreaLight& area_light = scene_.area_lights()[lights_[light].index];

@@ -73,7 +73,7 @@ struct PerfectMirror {
 };
 
 struct SmoothDielectric {
-    float eta;  // n_inside / n_outside; the local +z side is outside
+    float eta;                  // n_inside / n_outside; the local +z side is outside
     Color transmittance{1.0f};  // kept of the light that crosses (a tint: coloured glass)
 };
 

@@ -48,14 +48,14 @@ struct ColorTexture {
 struct Material {
     std::string name;
     MaterialType type = MaterialType::Diffuse;
-    ColorTexture albedo;      // diffuse reflectance in [0, 1] (Diffuse, Glossy)
-    Color specular{1.0f};     // lobe reflectance at normal incidence (Glossy, Conductor)
-    float roughness = 0.5f;   // microfacet roughness alpha in (0, 1] (Glossy, Conductor)
-    Color reflectance{1.0f};  // mirror reflectance (Mirror)
-    float ior = 1.5f;         // index of refraction, inside over outside (Glass)
+    ColorTexture albedo;        // diffuse reflectance in [0, 1] (Diffuse, Glossy)
+    Color specular{1.0f};       // lobe reflectance at normal incidence (Glossy, Conductor)
+    float roughness = 0.5f;     // microfacet roughness alpha in (0, 1] (Glossy, Conductor)
+    Color reflectance{1.0f};    // mirror reflectance (Mirror)
+    float ior = 1.5f;           // index of refraction, inside over outside (Glass)
     Color transmittance{1.0f};  // fraction of the light crossing the surface that is kept (Glass)
-    Color emission{0.0f};     // emitted radiance, W / (sr m^2)
-    bool two_sided = false;   // emits from both sides (else only along the geometric normal)
+    Color emission{0.0f};       // emitted radiance, W / (sr m^2)
+    bool two_sided = false;     // emits from both sides (else only along the geometric normal)
 
     bool is_emissive() const { return !is_black(emission); }
 };

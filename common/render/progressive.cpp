@@ -16,7 +16,7 @@ RenderResult render_scene(const Scene& scene, const Model& model, int spp,
 
 namespace {
 
-RenderResult collect(std::vector<Film>& films, const RenderStats& stats) {
+RenderResult result_of(std::vector<Film>& films, const RenderStats& stats) {
     RenderResult r;
     const Film& film = films[0];
     r.stats = stats;
@@ -97,11 +97,10 @@ void render_with_checkpoints(Passes& passes, const ProgressivePlan& plan,
     const bool checkpoints = plan.reference && plan.on_checkpoint;
     const bool clock = plan.time_budget > 0.0;
     for (int next_checkpoint = 1;;) {
-        if (!passes.render_to(clock ? passes.done + 1 : std::min(plan.spp, next_checkpoint),
-                              quiet))
+        if (!passes.render_to(clock ? passes.done + 1 : std::min(plan.spp, next_checkpoint), quiet))
             break;
-        const bool finished = clock ? passes.total.seconds >= plan.time_budget
-                                    : passes.done >= plan.spp;
+        const bool finished =
+            clock ? passes.total.seconds >= plan.time_budget : passes.done >= plan.spp;
         if (checkpoints && (passes.done == next_checkpoint || finished))
             plan.on_checkpoint({passes.done, passes.total.seconds,
                                 compare_images(passes.films[0].mean(), *plan.reference)});
@@ -123,7 +122,7 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
     else
         passes.render_to(plan.spp, settings);  // one call: pixel by pixel, all samples at once
     if (spp_taken) *spp_taken = passes.done;
-    RenderResult r = collect(passes.films, passes.total);
+    RenderResult r = result_of(passes.films, passes.total);
     r.interrupted = passes.interrupted;
     return r;
 }

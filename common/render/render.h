@@ -63,9 +63,9 @@ struct RenderSettings {
 
 struct RenderStats {
     double seconds = 0.0;
-    uint64_t rays = 0;     // rays traced (primary, shadow and secondary)
-    bool stopped = false;  // settings.stop was set before every tile was done
-    size_t splat_bytes = 0;  // splatting renders: the most memory one pass's splats held
+    uint64_t rays = 0;        // rays traced (primary, shadow and secondary)
+    bool stopped = false;     // settings.stop was set before every tile was done
+    size_t splat_bytes = 0;   // splatting renders: the most memory one pass's splats held
     int complete_passes = 0;  // splatting renders: sample indices added to the film in full
 };
 

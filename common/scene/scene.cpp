@@ -106,14 +106,9 @@ void Scene::build_bvh() {
 }
 
 AreaLight Scene::area_light_of(PrimRef p, uint32_t m) const {
-    AreaLight light{p,
-                    m,
-                    materials_[m].emission,
-                    materials_[m].two_sided,
-                    0.0f,
-                    Vec3(0.0f),
-                    Vec3(0.0f),
-                    Vec3(0.0f)};
+    AreaLight light{
+        p,          m,         materials_[m].emission, materials_[m].two_sided, 0.0f, Vec3(0.0f),
+        Vec3(0.0f), Vec3(0.0f)};
     switch (p.kind()) {
         case ShapeKind::Sphere: {
             const Sphere& s = spheres_[p.index()];
@@ -275,7 +270,7 @@ bool Scene::intersect_leaf(const RayTests& tests, uint32_t first, uint32_t end, 
         }
     }
     // One by one: spheres, and triangles under --naive moller-trumbore.
-    if (!tests.one_by_one) return hit_any;
+    if (!tests.single_tests) return hit_any;
     for (uint32_t k = first; k < end; ++k) {
         const ShapeKind kind = prims_[k].kind();
         if (kind == ShapeKind::Quad || (tests.triangle_blocks && kind == ShapeKind::Triangle))

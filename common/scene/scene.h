@@ -102,8 +102,8 @@ struct NaiveMethods {
 struct SceneContents {
     bool point_lights = false;
     bool area_lights = false;
-    bool environment = false;      // a background of nonzero radiance
-    bool delta_materials = false;  // a mirror or glass on some shape
+    bool environment = false;          // a background of nonzero radiance
+    bool delta_materials = false;      // a mirror or glass on some shape
     bool point_light_in_view = false;  // a point light the camera sees (unless something hides it)
 };
 
@@ -179,7 +179,7 @@ private:
         WatertightRay wr;
         bool triangle_blocks;  // triangles four at once (not under --naive moller-trumbore)
         bool quad_blocks;      // quads four at once
-        bool one_by_one;       // spheres, or triangles under --naive moller-trumbore
+        bool single_tests;     // spheres, or triangles under --naive moller-trumbore
     };
     RayTests ray_tests(const Ray& ray) const;
 
