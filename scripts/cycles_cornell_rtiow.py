@@ -59,7 +59,7 @@ FOV_Y_DEGREES = 40.0
 
 def box_faces(lo, hi, rotate_y_degrees, translate):
     """The six faces of a box as (corner, u, v) with cross(u, v) pointing out of the box, exactly
-    as common/scene_build.cpp's box_faces: p -> R_y(t) p + translate with
+    as common/io/scene_build.cpp's box_faces: p -> R_y(t) p + translate with
     x' = cos t x + sin t z, z' = -sin t x + cos t z, in double precision."""
     t = math.radians(rotate_y_degrees)
     c, s = math.cos(t), math.sin(t)

@@ -16,7 +16,7 @@ struct RegisteredLesson {
 };
 
 inline std::string trimmed(const std::string& s) {
-    const size_t a = s.find_first_not_of(' '), b = s.find_last_not_of(' ');
+    const size_t a = s.find_first_not_of(" \t\r"), b = s.find_last_not_of(" \t\r");
     return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
@@ -24,7 +24,7 @@ inline std::vector<RegisteredLesson> registered_lessons() {
     std::ifstream in(std::string(LESSONS_SOURCE_DIR) + "/chapters/lessons.txt");
     std::vector<RegisteredLesson> lessons;
     for (std::string line; std::getline(in, line);) {
-        if (line.empty() || line[0] == '#') continue;
+        if (trimmed(line).empty() || trimmed(line)[0] == '#') continue;
         std::vector<std::string> fields;
         std::stringstream ss(line);
         for (std::string f; std::getline(ss, f, '|');) fields.push_back(trimmed(f));
@@ -33,7 +33,7 @@ inline std::vector<RegisteredLesson> registered_lessons() {
         l.label = fields.size() > 1 ? fields[1] : "";
         if (fields.size() > 2) {
             std::stringstream vs(fields[2]);
-            for (std::string v; std::getline(vs, v, ';');)
+            for (std::string v; std::getline(vs, v, '&');)
                 if (!trimmed(v).empty()) l.variants.push_back(trimmed(v));
         }
         lessons.push_back(l);

@@ -2,7 +2,7 @@
 //
 //   build/bin/compare IMAGE REFERENCE [--second-half REFERENCE2] [--out PREFIX] [--scale MAX]
 //
-// Prints mse, rmse, relmse and mae (common/metrics.h) as one JSON line. With --second-half, the
+// Prints mse, rmse, relmse and mae (common/render/metrics.h) as one JSON line. With --second-half, the
 // reference is the mean of two independent renders (halves) A and B, and its own noise is
 // estimated and subtracted: the mean of two halves has per-pixel variance MSE(A, B) / 4, and
 // an image independent of both has MSE(image, reference) = its true MSE + that variance. The

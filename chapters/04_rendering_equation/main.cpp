@@ -17,15 +17,7 @@ int main(int argc, char** argv) {
     lesson.add_options = [&](CLI::App& app) {
         app.add_flag("--plain", plain,
                      "Plain estimator: BSDF sampling only, no next-event estimation or MIS");
-        app.add_option("--max-depth", options.max_depth,
-                       "Longest path in segments (1: emitters seen directly, 2: plus direct "
-                       "light, ...); 0: unlimited")
-            ->check(CLI::Range(0, 100000))
-            ->capture_default_str();
-        app.add_option("--roulette-after", options.roulette_after,
-                       "Bounces before Russian roulette may end a path; -1: never")
-            ->check(CLI::Range(-1, 100000))
-            ->capture_default_str();
+        add_path_length_options(app, options.max_depth, options.roulette_after);
         app.add_option("--bounces", options.bounce_layers,
                        "Also write the light of each bounce count 0 .. N-1 (E, KE, K^2E, ...) "
                        "and of N or more as images PREFIX_bounceK, and print each one's share")

@@ -1,6 +1,7 @@
 // Lesson 4: path tracing the rendering equation (see rendering_equation.h).
 #include "rendering_equation.h"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 
 #include "reflection_equation.h"
@@ -10,6 +11,30 @@ namespace lessons {
 
 float russian_roulette_survival(const Color& beta) {
     return std::min(1.0f, max_component(beta));
+}
+
+void add_path_length_options(CLI::App& app, int& max_depth, int& roulette_after) {
+    app.add_option("--max-depth", max_depth,
+                   "Longest path in segments (1: emitters seen directly, 2: plus direct light, "
+                   "...); 0: unlimited")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    app.add_option("--roulette-after", roulette_after,
+                   "Bounces before Russian roulette may end a path; -1: never")
+        ->check(CLI::Range(-1, 100000))
+        ->capture_default_str();
+}
+
+void add_path_length_notes(Model& model, int max_depth, int roulette_after) {
+    if (max_depth > 0)
+        model.biased_because.push_back("paths end after " + std::to_string(max_depth) +
+                                       " segments: later bounces are missing");
+    else
+        model.notes.push_back("no depth limit (a safety cut at " + std::to_string(kLongestPath) +
+                              " segments ends paths trapped by total internal reflection)");
+    if (roulette_after >= 0)
+        model.notes.push_back("Russian roulette after " + std::to_string(roulette_after) +
+                              " bounces (unbiased)");
 }
 
 Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& camera_ray, Rng& rng,
@@ -115,15 +140,7 @@ Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
             "caustics of lamps through mirrors and glass are found only by BSDF paths that "
             "happen to hit a lamp: unbiased but noisy (fireflies); lesson 5 traces them from the "
             "lamps");
-    if (options.max_depth > 0)
-        model.biased_because.push_back("paths end after " + std::to_string(options.max_depth) +
-                                       " segments: later bounces are missing");
-    else
-        model.notes.push_back("no depth limit (a safety cut at " + std::to_string(kLongestPath) +
-                              " segments ends paths trapped by total internal reflection)");
-    if (options.roulette_after >= 0)
-        model.notes.push_back("Russian roulette after " + std::to_string(options.roulette_after) +
-                              " bounces (unbiased)");
+    add_path_length_notes(model, options.max_depth, options.roulette_after);
     if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
     return model;
 }

@@ -31,6 +31,10 @@
 #include "render/app.h"
 #include "scene/scene.h"
 
+namespace CLI {
+class App;
+}
+
 namespace lessons {
 
 // Paths longer than this are cut even without a depth limit: a path trapped by total internal
@@ -49,6 +53,11 @@ struct PathOptions {
 // beta). Survivors carry beta / q, so the expected contribution is unchanged (q beta / q = beta).
 // (Lesson 5 ends its subpaths the same way.)
 float russian_roulette_survival(const Color& beta);
+
+// How long paths may grow, and when Russian roulette may end them: lesson 4's --max-depth and
+// --roulette-after and what the notes say of them, which lesson 5 shares for its subpaths.
+void add_path_length_options(CLI::App& app, int& max_depth, int& roulette_after);
+void add_path_length_notes(Model& model, int max_depth, int roulette_after);
 
 // The radiance along a camera ray: one path sample. If `bounces` is not empty, the
 // contribution of light that has bounced k times is also added to bounces[k] (the last entry

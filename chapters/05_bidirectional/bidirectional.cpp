@@ -98,15 +98,7 @@ Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
             "a point light seen in a mirror or through glass is missing, and so is its caustic "
             "seen that way: a delta BSDF next to each end of the path leaves no strategy to join "
             "them (the caustic seen directly is found)");
-    if (options.max_depth > 0)
-        model.biased_because.push_back("paths end after " + std::to_string(options.max_depth) +
-                                       " segments: later bounces are missing");
-    else
-        model.notes.push_back("no depth limit (a safety cut at " + std::to_string(kLongestPath) +
-                              " segments)");
-    if (options.roulette_after >= 0)
-        model.notes.push_back("Russian roulette on both subpaths after " +
-                              std::to_string(options.roulette_after) + " bounces (unbiased)");
+    add_path_length_notes(model, options.max_depth, options.roulette_after);  // both subpaths
     if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
     return model;
 }

@@ -4,6 +4,7 @@
 
 #include "bidirectional.h"
 #include "io/input_error.h"
+#include "rendering_equation.h"
 
 int main(int argc, char** argv) {
     using namespace lessons;
@@ -16,15 +17,7 @@ int main(int argc, char** argv) {
         "joined by every strategy and weighted by MIS";
     lesson.default_spp = 16;
     lesson.add_options = [&](CLI::App& app) {
-        app.add_option("--max-depth", options.max_depth,
-                       "Longest path in segments (1: emitters seen directly, 2: plus direct "
-                       "light, ...); 0: unlimited")
-            ->check(CLI::Range(0, 100000))
-            ->capture_default_str();
-        app.add_option("--roulette-after", options.roulette_after,
-                       "Bounces before Russian roulette may end a subpath; -1: never")
-            ->check(CLI::Range(-1, 100000))
-            ->capture_default_str();
+        add_path_length_options(app, options.max_depth, options.roulette_after);
         app.add_option("--strategies", options.strategy_layers,
                        "Also write one image per strategy (s, t) of paths of 1 .. N segments, "
                        "PREFIX_sS_tT, with its MIS weight applied, and the longer paths as "

@@ -31,8 +31,9 @@ double abs_cos(const Vertex& v, const Vertex& w) {
 // non-deltas, x_{i-1} and x_{j+1}, is made the same way from both sides, so its own densities
 // are left out (1). What differs is where the chain lands: a direction sampled at x_{i-1} with
 // density p (per steradian) reaches x_{j+1} with density p |cos| / D^2 per unit area, D the
-// chain's unfolded length (exact for flat mirrors; curved glass also focuses, which this leaves
-// out). Without it, a vertex right beside a glass ball (a floor it touches) would look far
+// chain's unfolded length (exact for flat mirrors; refraction and curved glass also change the
+// solid angle, which this leaves out: a matter of efficiency, as any weights that sum to one
+// keep the estimate unbiased). Without it, a vertex right beside a glass ball (a floor it touches) would look far
 // likelier to be found from the camera than it is.
 template <class VertexAt>
 void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) {

@@ -1,4 +1,4 @@
-// The BSDF lobes of lessons 3 and 4 (see bsdf.h for the contract every one of them keeps).
+// The BSDF lobes of lessons 3 to 5 (see bsdf.h for the contract every one of them keeps).
 #include "materials/bsdf.h"
 
 #include <algorithm>

@@ -48,7 +48,7 @@ float blinn_phong_normalization(float exponent);
 // The lesson-1 exponent for a roughness alpha: e = 2 / alpha^2 - 2 (Walter et al. 2007).
 float blinn_phong_exponent(float roughness);
 // Lambert plus the normalised Blinn-Phong lobe, for unit n, wo, wi: the BRDF lessons 1 and 2
-// evaluate at their point lights, and lessons 3 and 4 sample.
+// evaluate at their point lights, and lessons 3 to 5 sample.
 Color blinn_phong_brdf(const Color& k_d, const Color& k_s, float exponent, const Vec3& n,
                        const Vec3& wo, const Vec3& wi);
 
