@@ -36,19 +36,6 @@ RenderResult render_lesson4(const Scene& scene, const PathOptions& options, int 
     return render_scene(scene, make_path_tracing_model(scene, lights, options), spp, settings);
 }
 
-Scene furnace(float rho, float Le) {
-    Scene scene;
-    Material m;
-    m.name = "furnace";
-    m.albedo.value = Color(rho);
-    m.emission = Color(Le);
-    m.two_sided = true;
-    scene.add_sphere({Vec3(0), 1.0f}, scene.add_material(m));
-    scene.width = scene.height = 8;
-    scene.camera = Camera(Vec3(0, 0, -0.3f), Vec3(0, 0, 1), Vec3(0, 1, 0), 70.0f, 1.0f);
-    scene.commit();
-    return scene;
-}
 
 // |a - b| against the standard error of the difference (floored: an estimate with no variance,
 // such as a furnace seen one segment deep, must then match to rounding).
@@ -65,7 +52,7 @@ TEST(Bidirectional, FurnaceIsLeOverOneMinusRhoWithAndWithoutADepthLimit) {
     for (float rho : {0.5f, 0.8f}) {
         for (int k : {0, 1, 3}) {
             if (rho == 0.5f && k == 3) continue;
-            const Scene scene = furnace(rho, 1.0f);
+            const Scene scene = test::furnace(rho, 1.0f);
             BidirOptions options;
             options.max_depth = k;
             const RenderResult r = render_lesson5(scene, options, 256, 1 + k);

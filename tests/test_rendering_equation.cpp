@@ -43,17 +43,6 @@ test::MeanAndError estimate(const Scene& scene, const Ray& ray, const PathOption
     return test::mean_and_error(values);
 }
 
-Scene furnace(float rho, float Le) {
-    Scene scene;
-    Material m;
-    m.name = "furnace";
-    m.albedo.value = Color(rho);
-    m.emission = Color(Le);
-    m.two_sided = true;
-    scene.add_sphere({Vec3(0), 1.0f}, scene.add_material(m));
-    scene.commit();
-    return scene;
-}
 
 // Two renders of one scene by lesson 4 with other options, sample counts and seeds.
 std::pair<RenderResult, RenderResult> render_both(const Scene& scene, const PathOptions& a,
@@ -76,7 +65,7 @@ std::pair<RenderResult, RenderResult> render_both(const Scene& scene, const Path
 TEST(RenderingEquation, FurnaceIsLeOverOneMinusRho) {
     const Ray ray{Vec3(0.1f, -0.2f, 0.0f), glm::normalize(Vec3(0.3f, 0.4f, 1.0f))};
     for (float rho : {0.3f, 0.5f, 0.8f, 0.95f}) {
-        const Scene scene = furnace(rho, 1.0f);
+        const Scene scene = test::furnace(rho, 1.0f);
         for (const Strategies& strategies : kStrategies) {
             const auto [mean, se] = estimate(scene, ray, strategies.options(), 20000, 1);
             EXPECT_NEAR(mean, 1.0 / (1.0 - rho), test::z_quantile(kSignificance) * se + 1e-5)
@@ -87,7 +76,7 @@ TEST(RenderingEquation, FurnaceIsLeOverOneMinusRho) {
 
 TEST(RenderingEquation, FurnaceWithDepthCappedAtKSumsKTerms) {
     const Ray ray{Vec3(0), Vec3(0, 0, 1)};
-    const Scene scene = furnace(0.8f, 1.0f);
+    const Scene scene = test::furnace(0.8f, 1.0f);
     for (int k : {1, 2, 3, 6}) {
         for (const Strategies& strategies : kStrategies) {
             PathOptions options = strategies.options();
@@ -191,7 +180,7 @@ TEST(RenderingEquation, TheKroneckerSamplerIsUnbiased) {
     // independent shifts, so pixel means are independent: the z-test runs over pixels.
     const Ray ray{Vec3(0.1f, -0.2f, 0.0f), glm::normalize(Vec3(0.3f, 0.4f, 1.0f))};
     for (float rho : {0.5f, 0.8f}) {
-        const Scene scene = furnace(rho, 1.0f);
+        const Scene scene = test::furnace(rho, 1.0f);
         const LightSampler lights(scene);
         for (const Strategies& strategies : kStrategies) {
             const PathOptions options = strategies.options();

@@ -87,6 +87,22 @@ inline double lambert_polygon_irradiance(const std::vector<glm::dvec3>& vertices
     return 0.5 * L * std::fabs(sum);
 }
 
+// The furnace: inside a unit sphere whose wall emits Le on both sides and reflects with albedo
+// rho, radiance is Le / (1 - rho) everywhere. An 8 x 8 camera looks from inside it.
+inline Scene furnace(float rho, float Le) {
+    Scene scene;
+    Material m;
+    m.name = "furnace";
+    m.albedo.value = Color(rho);
+    m.emission = Color(Le);
+    m.two_sided = true;
+    scene.add_sphere({Vec3(0), 1.0f}, scene.add_material(m));
+    scene.width = scene.height = 8;
+    scene.camera = Camera(Vec3(0, 0, -0.3f), Vec3(0, 0, 1), Vec3(0, 1, 0), 70.0f, 1.0f);
+    scene.commit();
+    return scene;
+}
+
 inline uint32_t add_diffuse(Scene& scene, const Color& albedo) {
     Material m;
     m.name = "diffuse";
