@@ -77,11 +77,15 @@ TileRun run_tiles(int tile_count, const RenderSettings& settings, WorkFn&& work)
     return {rays.load(), stopped.load()};
 }
 
-// The random numbers of sample s of pixel `pixel`, and the camera ray they place in it.
-Ray camera_ray(const Camera& camera, const RenderSettings& settings, int x, int y, size_t pixel,
-               int s, int width, int height, Rng& rng) {
-    rng = settings.kronecker ? Rng::kronecker(settings.seed, pixel, s)
-                             : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
+// The random numbers of sample s of pixel `pixel`.
+Rng sample_rng(const RenderSettings& settings, size_t pixel, int s) {
+    return settings.kronecker ? Rng::kronecker(settings.seed, pixel, s)
+                              : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
+}
+
+// The camera ray through pixel (x, y), placed in it by the sample's first two numbers.
+Ray camera_ray(const Camera& camera, const RenderSettings& settings, int x, int y, int width,
+               int height, Rng& rng) {
     const float jx = settings.jitter ? rng.uniform() : 0.5f;
     const float jy = settings.jitter ? rng.uniform() : 0.5f;
     return camera.generate_ray(x + jx, y + jy, width, height);
@@ -121,9 +125,8 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
         std::vector<Color> layers(layer_count);
         const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
             for (int s = sample_begin; s < sample_end; ++s) {
-                Rng rng;
-                const Ray ray =
-                    camera_ray(camera, settings, x, y, pixel, s, tiles.width, tiles.height, rng);
+                Rng rng = sample_rng(settings, pixel, s);
+                const Ray ray = camera_ray(camera, settings, x, y, tiles.width, tiles.height, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
                 const Color value = radiance(ray, rng, layers);
                 films[0].add_sample(pixel, value);
@@ -164,9 +167,8 @@ RenderStats render_splatting(const Camera& camera, std::span<Film> films,
             std::vector<Splat>& splats = tile_splats[tile];
             splats.clear();
             const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
-                Rng rng;
-                const Ray ray =
-                    camera_ray(camera, settings, x, y, pixel, s, tiles.width, tiles.height, rng);
+                Rng rng = sample_rng(settings, pixel, s);
+                const Ray ray = camera_ray(camera, settings, x, y, tiles.width, tiles.height, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
                 pass[0][pixel] = radiance(ray, rng, layers, splats);
                 for (size_t k = 0; k < layer_count; ++k) pass[1 + k][pixel] = layers[k];
