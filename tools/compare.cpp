@@ -30,31 +30,6 @@ using namespace lessons;
 
 namespace {
 
-// Viridis (van der Walt and Smith, matplotlib): perceptually uniform and ordered, readable in
-// grey and by colour-blind viewers. Sampled at 0, 0.1, ..., 1.
-constexpr std::array<std::array<uint8_t, 3>, 11> kViridis = {{{0x44, 0x01, 0x54},
-                                                              {0x48, 0x24, 0x75},
-                                                              {0x41, 0x44, 0x87},
-                                                              {0x35, 0x5F, 0x8D},
-                                                              {0x2A, 0x78, 0x8E},
-                                                              {0x21, 0x91, 0x8C},
-                                                              {0x22, 0xA8, 0x84},
-                                                              {0x44, 0xBF, 0x70},
-                                                              {0x7A, 0xD1, 0x51},
-                                                              {0xBD, 0xDF, 0x26},
-                                                              {0xFD, 0xE7, 0x25}}};
-
-std::array<uint8_t, 3> viridis(float t) {
-    t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) : 1.0f;
-    const float x = t * 10.0f;
-    const int i = std::min(9, static_cast<int>(x));
-    const float f = x - i;
-    std::array<uint8_t, 3> c;
-    for (int k = 0; k < 3; ++k)
-        c[k] = static_cast<uint8_t>(std::lround((1 - f) * kViridis[i][k] + f * kViridis[i + 1][k]));
-    return c;
-}
-
 // A 3 x 5 pixel font for the scale's numbers.
 const char* glyph(char ch) {
     switch (ch) {
@@ -196,18 +171,8 @@ int main(int argc, char** argv) {
     }
     if (out.empty()) return 0;
 
-    // Per-pixel error: RMS of the channel differences.
-    std::vector<float> error(image.pixels.size());
-    for (size_t i = 0; i < error.size(); ++i) {
-        const Color d = image.pixels[i] - reference.pixels[i];
-        error[i] = std::sqrt(glm::dot(d, d) / 3.0f);
-    }
-    if (scale <= 0.0) {
-        std::vector<float> sorted(error);
-        std::sort(sorted.begin(), sorted.end());
-        scale = sorted.empty() ? 1.0 : sorted[static_cast<size_t>(0.99 * (sorted.size() - 1))];
-        if (!(scale > 0.0)) scale = 1.0;
-    }
+    const std::vector<float> error = pixel_errors(image, reference);
+    if (scale <= 0.0) scale = error_map_scale(error);
     const int w = image.width, h = image.height;
     const int bar = 14, label = 16;  // the colour bar and its numbers beneath the image
     Canvas error_png(w, h + bar + label);

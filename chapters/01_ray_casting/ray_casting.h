@@ -48,6 +48,9 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
 
 Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options);
 
+// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
+Lesson ray_casting_lesson();
+
 // The --ambient flag of the local models (lessons 1 and 2): one grey value or R G B, stored in
 // `values`; ambient_radiance() turns it into L_a, the scene's background radiance by default.
 void add_ambient_option(CLI::App& app, std::vector<float>& values);

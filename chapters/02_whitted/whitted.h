@@ -34,4 +34,7 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
 
 Model make_whitted_model(const Scene& scene, const WhittedOptions& options);
 
+// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
+Lesson whitted_lesson();
+
 }  // namespace lessons

@@ -50,4 +50,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
 Model make_reflection_model(const Scene& scene, const LightSampler& lights,
                             const ReflectionOptions& options);
 
+// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
+Lesson reflection_equation_lesson();
+
 }  // namespace lessons

@@ -68,4 +68,7 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& ray,
 Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
                               const PathOptions& options);
 
+// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
+Lesson rendering_equation_lesson();
+
 }  // namespace lessons

@@ -50,4 +50,7 @@ Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
 Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
                                const BidirOptions& options);
 
+// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
+Lesson bidirectional_lesson();
+
 }  // namespace lessons

@@ -52,7 +52,7 @@ void write_exr(const Image& image, const std::string& path) {
     });
 }
 
-void write_png(const Image& image, const std::string& path, float exposure_stops) {
+std::vector<uint8_t> display_bytes(const Image& image, float exposure_stops) {
     const float scale = std::exp2(exposure_stops);
     std::vector<uint8_t> bytes(static_cast<size_t>(image.width) * image.height * 3);
     for (size_t i = 0; i < image.pixels.size(); ++i) {
@@ -62,13 +62,21 @@ void write_png(const Image& image, const std::string& path, float exposure_stops
             bytes[3 * i + c] = static_cast<uint8_t>(std::lround(255.0f * srgb_encode(v)));
         }
     }
-    write_atomically(path, [&](const std::string& tmp) {
-        if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, bytes.data(),
-                            image.width * 3)) {
-            std::remove(tmp.c_str());
-            throw std::runtime_error(path + ": cannot write PNG");
-        }
-    });
+    return bytes;
+}
+
+void write_png(const Image& image, const std::string& path, float exposure_stops) {
+    write_png_bytes(path, image.width, image.height, display_bytes(image, exposure_stops));
+}
+
+std::string encode_png(int width, int height, const std::vector<uint8_t>& rgb) {
+    std::string png;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), size);
+    };
+    if (!stbi_write_png_to_func(append, &png, width, height, 3, rgb.data(), width * 3))
+        throw std::runtime_error("cannot encode PNG");
+    return png;
 }
 
 float srgb_decode(float v) {

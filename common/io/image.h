@@ -32,6 +32,11 @@ void write_png(const Image& image, const std::string& path, float exposure_stops
 Image read_exr(const std::string& path);
 // Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
 Image read_image(const std::string& path);
+// The PNG's bytes of write_png: each channel times 2^exposure, clamped, sRGB-encoded, 8 bits.
+std::vector<uint8_t> display_bytes(const Image& image, float exposure_stops = 0.0f);
+// 8-bit RGB bytes as a PNG file's contents, in memory.
+std::string encode_png(int width, int height, const std::vector<uint8_t>& rgb);
+
 // The inverse of srgb_encode.
 float srgb_decode(float encoded);
 // Writes 8-bit RGB bytes (already display-encoded, e.g. a colour map) as a PNG, atomically.

@@ -73,6 +73,10 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
            "default) or kronecker (a randomised Kronecker sequence per pixel, the positions "
            "in the pixel from a scrambled Sobol sequence: stratified, still unbiased)")
         ->check(CLI::IsMember({"independent", "kronecker"}));
+    app.add_option("--albedo", o.albedo,
+                   "Make every diffuse reflectance (diffuse and glossy materials) this grey, in "
+                   "[0, 1]: the furnace demo's ratio of the series L = E + KE + K^2E + ...")
+        ->check(CLI::Range(0.0, 1.0));
     app.add_option("--clamp", o.clamp,
                    "Clamp each sample's luminance to this value (removes fireflies; biased, and "
                    "the report says so)")
@@ -135,18 +139,14 @@ namespace {
 // or a bad flag: 2).
 std::optional<int> read_command_line(int argc, char** argv, const Lesson& lesson, CLI::App& app,
                                      CommonOptions& o) {
-    add_common_options(app, o);
-    if (lesson.add_options) lesson.add_options(app);
     try {
-        app.parse(argc, argv);
+        parse_lesson_arguments(std::vector<std::string>(argv, argv + argc), lesson, app, o);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << lesson.name << ": error: command line: " << e.what() << " (see --help)\n";
+    } catch (const InputError& e) {
+        std::cerr << lesson.name << ": error: " << e.what() << " (see --help)\n";
         return 2;
     }
-    if (o.spp <= 0) o.spp = lesson.default_spp;
-    if (o.out.empty()) o.out = default_out(lesson, o.scene);
     return std::nullopt;
 }
 
@@ -202,19 +202,20 @@ Image read_reference(const CommonOptions& o, const Scene& scene) {
     return reference;
 }
 
-// Everything a run renders with, made before any rendering: bad input stops it here. The model
-// refers to the scene, so both stay where they are made (filled in place, never moved).
-struct RunInputs {
-    Scene scene;
-    Model model;
-    Image reference;
-};
-void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
-    in.scene = load_scene(o.scene, {o.width, o.height});
-    check_memory(in.scene.width, in.scene.height);
-    apply_naive_methods(o.naive, in.scene.naive);
-    in.reference = read_reference(o, in.scene);
-    in.model = lesson.make_model(in.scene);
+// --albedo: every diffuse reflectance (of diffuse and glossy materials) becomes grey `rho`.
+void apply_albedo(float rho, Scene& scene) {
+    if (rho < 0.0f) return;
+    for (uint32_t i = 0; i < scene.materials().size(); ++i) {
+        Material m = scene.material(i);
+        if (m.type != MaterialType::Diffuse && m.type != MaterialType::Glossy) continue;
+        m.albedo = ColorTexture{};
+        m.albedo.value = Color(rho);
+        scene.replace_material(i, m);
+    }
+}
+
+// Creates the folder of the output prefix.
+void make_output_folder(const CommonOptions& o) {
     const std::filesystem::path dir = std::filesystem::path(o.out).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
 }
@@ -237,13 +238,9 @@ struct RunResult {
     std::vector<Checkpoint> checkpoints;  // with --reference
 };
 RunResult render_run(const CommonOptions& o, const RunInputs& in) {
-    RenderSettings settings;
-    settings.threads = o.threads;
-    settings.seed = o.seed;
+    RenderSettings settings = render_settings(o);
     settings.progress = !o.quiet;
     settings.stop = &g_stop_requested;
-    settings.clamp = o.clamp;
-    settings.kronecker = o.sampler == "kronecker";
     install_stop_handlers();
     RunResult run;
     ProgressivePlan plan;
@@ -334,6 +331,7 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
         report.set("clamped_samples", r.clamped_samples);
     }
     if (!o.naive.empty()) report.set("naive", o.naive);
+    if (o.albedo >= 0.0f) report.set("albedo", static_cast<double>(o.albedo));
     report.set("interrupted", r.interrupted);
     if (o.time_budget > 0.0) report.set("time_budget", o.time_budget);
     report.set("threads", resolve_thread_count(o.threads));
@@ -365,6 +363,46 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
 
 }  // namespace
 
+void parse_lesson_arguments(const std::vector<std::string>& args, const Lesson& lesson,
+                            CLI::App& app, CommonOptions& o) {
+    add_common_options(app, o);
+    if (lesson.add_options) lesson.add_options(app);
+    try {
+        // CLI11 takes the arguments after the program's name, last first.
+        std::vector<std::string> reversed(args.rbegin(), args.rend());
+        if (!reversed.empty()) reversed.pop_back();
+        app.parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        throw;
+    } catch (const CLI::ParseError& e) {
+        throw InputError("command line", 0, "", e.what());
+    }
+    if (o.spp <= 0) o.spp = lesson.default_spp;
+    if (o.out.empty()) o.out = default_out(lesson, o.scene);
+}
+
+void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
+    in.scene = load_scene(o.scene, {o.width, o.height});
+    check_memory(in.scene.width, in.scene.height);
+    apply_naive_methods(o.naive, in.scene.naive);
+    apply_albedo(o.albedo, in.scene);
+    in.reference = read_reference(o, in.scene);
+    in.model = lesson.make_model(in.scene);
+    if (o.albedo >= 0.0f)
+        in.model.notes.push_back("--albedo: every diffuse reflectance is grey " +
+                                 std::to_string(o.albedo) + " (the scene's own are ignored)");
+}
+
+RenderSettings render_settings(const CommonOptions& o) {
+    RenderSettings settings;
+    settings.threads = o.threads;
+    settings.seed = o.seed;
+    settings.progress = false;
+    settings.clamp = o.clamp;
+    settings.kronecker = o.sampler == "kronecker";
+    return settings;
+}
+
 int run_lesson(int argc, char** argv, const Lesson& lesson) {
     CLI::App app(lesson.description, lesson.name);
     CommonOptions o;
@@ -374,6 +412,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     RunInputs in;
     try {
         prepare_run(o, lesson, in);
+        make_output_folder(o);
     } catch (const InputError& e) {
         std::cerr << lesson.name << ": error: " << e.what() << "\n";
         return 2;

@@ -45,7 +45,29 @@ struct CommonOptions {
     std::vector<std::string> naive;  // naive methods to demonstrate (docs/robustness.md)
     float clamp = 0.0f;              // > 0: clamp sample luminance (biased)
     std::string sampler = "independent";  // or "kronecker" (RenderSettings::kronecker)
+    float albedo = -1.0f;  // >= 0: every diffuse reflectance becomes this grey (the furnace demo)
 };
+
+// The steps of run_lesson, for every front end that runs lessons (the command line, the studio).
+
+// Parses a command line (args[0] is the program's name) into `o` and the lesson's own flags.
+// Throws InputError("command line", 0, "", CLI11's message) for a bad flag, and CLI::CallForHelp
+// for --help.
+void parse_lesson_arguments(const std::vector<std::string>& args, const Lesson& lesson,
+                            CLI::App& app, CommonOptions& o);
+
+// Everything a run renders with, made before any rendering: bad input stops it here. The model
+// refers to the scene, so both stay where they are made (filled in place, never moved).
+struct RunInputs {
+    Scene scene;
+    Model model;
+    Image reference;  // empty without --reference
+};
+// Loads the scene (applying --naive and --albedo), reads the reference and makes the model;
+// throws InputError for bad input.
+void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in);
+// The render loop's settings for these options (no stop flag, no progress display).
+RenderSettings render_settings(const CommonOptions& o);
 
 // Parses the command line, renders, writes <out>.exr, <out>.png and the report.
 // Exit codes: 0 done; 1 a failure while writing output; 2 bad input (command line, scene file,

@@ -10,7 +10,10 @@
 // constant of the estimator and the scene.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/image.h"
 
@@ -23,5 +26,12 @@ struct ErrorMetrics {
 // Throws InputError (naming `what`) when the sizes differ.
 ErrorMetrics compare_images(const Image& image, const Image& reference,
                             const std::string& what = "image");
+
+// The per-pixel error |image - reference|, RMS over the channels (error maps).
+std::vector<float> pixel_errors(const Image& image, const Image& reference);
+// The top of an error map's colour scale: the 99th percentile of the errors (1 if that is 0).
+double error_map_scale(const std::vector<float>& errors);
+// Viridis (perceptually uniform, readable in grey and by colour-blind viewers): 0 dark, 1 yellow.
+std::array<uint8_t, 3> viridis(float t);
 
 }  // namespace lessons

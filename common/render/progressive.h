@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,9 @@ struct Model {
     // samples it takes (its bias); empty when it converges to the true image. Printed, and in
     // the report as "biased" and "bias".
     std::vector<std::string> biased_because;
+    // What the functions above refer to and the model owns (e.g. its light sampler), kept alive
+    // as long as any copy of the model.
+    std::shared_ptr<const void> owned;
 };
 
 // What a render gives back: the image, its layers, their per-pixel variances and counts.
@@ -47,6 +51,32 @@ struct RenderResult {
     uint64_t clamped_samples = 0;
     size_t splat_bytes = 0;  // splatting models: the most memory one pass's splats held
 };
+// The films of one render and the samples they hold: renders more samples into them, whole
+// passes over the image (the render loop for the model's kind: plain, layered or splatting).
+// Samples 0 .. N-1 in any split into calls give the same films, bit for bit.
+class ProgressiveFilms {
+public:
+    ProgressiveFilms(const Scene& scene, const Model& model, float clamp);
+    // Renders samples samples() .. end-1 of every pixel; false if settings.stop stopped it (then
+    // samples() counts what the films hold whole).
+    bool render_to(int end, const RenderSettings& settings);
+    int samples() const { return done_; }
+    const RenderStats& stats() const { return total_; }  // summed over the calls
+    bool interrupted() const { return interrupted_; }
+    const std::vector<Film>& films() const { return films_; }  // [0] the image, [1 + k] layer k
+    const Scene& scene() const { return scene_; }
+    // The image, its layers and variances so far.
+    RenderResult result() const;
+
+private:
+    const Scene& scene_;
+    const Model& model_;
+    std::vector<Film> films_;
+    RenderStats total_;
+    int done_ = 0;
+    bool interrupted_ = false;
+};
+
 // Renders `spp` samples per pixel in one go (for tests; run_lesson renders progressively).
 RenderResult render_scene(const Scene& scene, const Model& model, int spp,
                           const RenderSettings& settings);

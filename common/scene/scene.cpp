@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace lessons {
 
@@ -13,6 +14,12 @@ thread_local uint64_t t_rays_traced = 0;
 
 uint64_t rays_traced_by_this_thread() {
     return t_rays_traced;
+}
+
+void Scene::replace_material(uint32_t i, const Material& m) {
+    if (m.emission != materials_.at(i).emission || m.two_sided != materials_[i].two_sided)
+        throw std::logic_error("Scene::replace_material: the emission cannot change");
+    materials_[i] = m;
 }
 
 uint32_t Scene::add_material(const Material& m) {

@@ -121,6 +121,9 @@ public:
     void add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                   const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles);
     void add_point_light(const PointLight& l) { point_lights_.push_back(l); }
+    // Replaces material i's reflectance parameters. Its emission must stay as it was: the area
+    // lights were collected from it (--albedo changes only reflectances).
+    void replace_material(uint32_t i, const Material& m);
     // Builds the BVH and the list of area lights. Call once, after adding every shape.
     void commit();
 

@@ -1,0 +1,281 @@
+// studio: the lessons, live, in a browser (docs/studio.md). An HTTP server (cpp-httplib) on
+// 127.0.0.1 that serves one page (tools/studio/page) and the API it polls:
+//
+//   GET  /api/config                  scenes, lessons and their flags, limits, the bind address
+//   POST /api/start?pane=P&scene=S&lesson=L&--flag=V...   (re)starts pane P; 400 on bad input
+//   POST /api/stop?pane=P
+//   GET  /api/status                  every pane: spp, passes, times, rays/s, notes, error chart
+//   GET  /api/frame?pane=P&view=V&exposure=X     PNG (view: image, layer:K, sum:K, error)
+//   GET  /api/probe?pane=P&x=X&y=Y&light=K       JSON: what is at a pixel, with units
+//   GET  /api/download?pane=P&format=exr|png     the image as the CLI writes it
+//
+// Every error is a 400 with {"error": message}; the render core is studio.cpp.
+#include <malloc.h>
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <httplib.h>
+#include <iostream>
+#include <thread>
+
+#include "io/report.h"
+#include "studio.h"
+
+using namespace lessons;
+using namespace lessons::studio;
+
+namespace {
+
+std::string error_json(const std::string& message) {
+    return "{\"error\": " + json_quote(message) + "}";
+}
+
+// The query's parameters, each once.
+Params params_of(const httplib::Request& req) {
+    Params params;
+    for (const auto& [key, value] : req.params)
+        if (!params.emplace(key, value).second)
+            throw RequestError("parameter '" + key + "' given twice");
+    return params;
+}
+
+int int_of(const Params& params, const std::string& key, int fallback) {
+    const auto it = params.find(key);
+    if (it == params.end()) return fallback;
+    try {
+        size_t used = 0;
+        const int v = std::stoi(it->second, &used);
+        if (used == it->second.size()) return v;
+    } catch (const std::exception&) {
+    }
+    throw RequestError(key + ": '" + it->second + "' is not an integer");
+}
+
+float exposure_of(const Params& params) {
+    const auto it = params.find("exposure");
+    if (it == params.end() || it->second.empty()) return 0.0f;
+    try {
+        size_t used = 0;
+        const float v = std::stof(it->second, &used);
+        if (used == it->second.size() && v >= -30.0f && v <= 30.0f) return v;
+    } catch (const std::exception&) {
+    }
+    throw RequestError("exposure: '" + it->second + "' is not a number of stops in -30 .. 30");
+}
+
+std::string config_json(const Studio& studio, const std::string& bind, int port) {
+    std::string s = "{\"bind\": " + json_quote(bind) + ", \"port\": " + std::to_string(port);
+    s += ", \"loopback_only\": " + std::string(bind == "127.0.0.1" ? "true" : "false");
+    s += ", \"panes\": " + std::to_string(studio.pane_count());
+    s += ", \"max_size\": " + std::to_string(studio.limits().max_side);
+    s += ", \"max_spp\": " + std::to_string(studio.limits().max_spp);
+    s += ", \"reference_spp\": " + std::to_string(studio.limits().reference_spp);
+    s += ", \"scenes\": [";
+    for (size_t i = 0; i < studio.scenes().size(); ++i) {
+        const SceneEntry& e = studio.scenes()[i];
+        s += std::string(i ? ", " : "") + "{\"id\": " + json_quote(e.id) +
+             ", \"description\": " + json_quote(e.description) + "}";
+    }
+    s += "], \"lessons\": [";
+    for (size_t i = 0; i < studio.lessons().size(); ++i) {
+        const LessonInfo& l = studio.lessons()[i];
+        s += std::string(i ? ", " : "") + "{\"name\": " + json_quote(l.name) +
+             ", \"label\": " + json_quote(l.label) +
+             ", \"description\": " + json_quote(l.description) +
+             ", \"default_spp\": " + std::to_string(l.default_spp) + ", \"options\": [";
+        for (size_t k = 0; k < l.options.size(); ++k) {
+            const OptionInfo& o = l.options[k];
+            s += std::string(k ? ", " : "") + "{\"flag\": " + json_quote(o.flag) +
+                 ", \"description\": " + json_quote(o.description) +
+                 ", \"is_flag\": " + (o.is_flag ? "true" : "false") +
+                 ", \"default\": " + json_quote(o.default_value) + ", \"choices\": [";
+            for (size_t c = 0; c < o.choices.size(); ++c)
+                s += std::string(c ? ", " : "") + json_quote(o.choices[c]);
+            s += "]}";
+        }
+        s += "]}";
+    }
+    return s + "]}";
+}
+
+// Runs `handler`, answering a RequestError with 400 and anything else with 500.
+template <class Handler>
+httplib::Server::Handler guarded(Handler handler) {
+    return [handler](const httplib::Request& req, httplib::Response& res) {
+        try {
+            handler(req, res);
+        } catch (const RequestError& e) {
+            res.status = 400;
+            res.set_content(error_json(e.what()), "application/json");
+        } catch (const std::exception& e) {
+            res.status = 500;
+            res.set_content(error_json(e.what()), "application/json");
+        }
+    };
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app("studio: the lessons rendering live in a browser, two side by side, with the error "
+                 "against a reference as they converge (docs/studio.md)",
+                 "studio");
+    int port = 8642;
+    std::string bind = "127.0.0.1";
+    std::vector<std::string> scene_dirs;
+    std::string references = LESSONS_SOURCE_DIR "/out";
+    std::string cache = LESSONS_SOURCE_DIR "/out/studio";
+    std::string page = LESSONS_SOURCE_DIR "/tools/studio/page";
+    Limits limits;
+    app.add_option("--port", port, "TCP port (0: any free port; the address is printed)")
+        ->check(CLI::Range(0, 65535))
+        ->capture_default_str();
+    app.add_option("--bind", bind,
+                   "Address to listen on. Only 127.0.0.1 (this machine) unless you give another "
+                   "one, e.g. 0.0.0.0 to let a classroom's machines in; the page then says so")
+        ->capture_default_str();
+    app.add_option("--scenes", scene_dirs,
+                   "Folders of scene files the page may choose from, each given once (default: "
+                   "the suite's scenes/ and scenes/hard/); no other file can be chosen");
+    app.add_option("--references", references,
+                   "Where scripts/lessons.sh wrote its references (<dir>/<scene>/reference.exr)")
+        ->capture_default_str();
+    app.add_option("--cache", cache, "Where the studio keeps the references it renders")
+        ->capture_default_str();
+    app.add_option("--page", page, "The folder of the page's files")->capture_default_str();
+    app.add_option("--max-size", limits.max_side, "Largest image side a page may ask for")
+        ->check(CLI::Range(16, 8192))
+        ->capture_default_str();
+    app.add_option("--max-spp", limits.max_spp, "A pane's render stops at this many samples")
+        ->check(CLI::Range(1, 1 << 24))
+        ->capture_default_str();
+    app.add_option("--threads", limits.threads, "Threads per pass (0: one per core)")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+    app.add_option("--reference-spp", limits.reference_spp,
+                   "Samples per pixel of a reference the studio renders itself")
+        ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "studio: error: command line: " << e.what() << " (see --help)\n";
+        return 2;
+    }
+    if (scene_dirs.empty())
+        scene_dirs = {LESSONS_SOURCE_DIR "/scenes", LESSONS_SOURCE_DIR "/scenes/hard"};
+    std::vector<std::pair<std::string, std::string>> folders;
+    for (const std::string& dir : scene_dirs) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec)) {
+            std::cerr << "studio: error: command line: --scenes: '" << dir
+                      << "' is not a folder\n";
+            return 2;
+        }
+        folders.emplace_back(std::filesystem::path(dir).lexically_normal().filename().string(),
+                             dir);
+    }
+    if (!std::filesystem::is_regular_file(page + "/index.html")) {
+        std::cerr << "studio: error: command line: --page: no index.html in '" << page << "'\n";
+        return 2;
+    }
+
+    // The HTTP server's pool has a dozen threads; glibc would give each one its own malloc arena,
+    // each holding on to memory it freed, and the studio's memory would grow with the number of
+    // threads that ever served a request (measured: +9 MB over the first 40 page reloads, flat
+    // with two arenas). Two arenas: one per core.
+    mallopt(M_ARENA_MAX, 2);
+
+    // Ctrl-C and SIGTERM go to one thread, which stops the server; every other thread (created
+    // after this) has them blocked.
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+    Studio studio(folders, references, cache, limits);
+    httplib::Server server;
+    server.set_payload_max_length(1 << 16);
+    server.set_keep_alive_max_count(100);
+    server.set_mount_point("/", page);
+    server.set_file_extension_and_mimetype_mapping("js", "text/javascript");
+    server.set_default_headers({{"Cache-Control", "no-store"}});
+
+    server.Get("/api/config", guarded([&](const httplib::Request&, httplib::Response& res) {
+                   res.set_content(config_json(studio, bind, port), "application/json");
+               }));
+    server.Post("/api/start", guarded([&](const httplib::Request& req, httplib::Response& res) {
+                    Params params = params_of(req);
+                    const int pane = int_of(params, "pane", 0);
+                    const uint64_t generation = studio.start(pane, params);
+                    res.set_content("{\"generation\": " + std::to_string(generation) + "}",
+                                    "application/json");
+                }));
+    server.Post("/api/stop", guarded([&](const httplib::Request& req, httplib::Response& res) {
+                    studio.stop_pane(int_of(params_of(req), "pane", 0));
+                    res.set_content("{}", "application/json");
+                }));
+    server.Get("/api/status", guarded([&](const httplib::Request&, httplib::Response& res) {
+                   res.set_content(studio.status_json(), "application/json");
+               }));
+    server.Get("/api/frame", guarded([&](const httplib::Request& req, httplib::Response& res) {
+                   const Params params = params_of(req);
+                   const auto view = params.find("view");
+                   res.set_content(studio.frame_png(int_of(params, "pane", 0),
+                                                    view == params.end() ? "image" : view->second,
+                                                    exposure_of(params)),
+                                   "image/png");
+               }));
+    server.Get("/api/probe", guarded([&](const httplib::Request& req, httplib::Response& res) {
+                   const Params params = params_of(req);
+                   res.set_content(
+                       studio.probe_json(int_of(params, "pane", 0), int_of(params, "x", -1),
+                                         int_of(params, "y", -1), int_of(params, "light", 0),
+                                         int_of(params, "samples", 1024)),
+                       "application/json");
+               }));
+    server.Get("/api/download", guarded([&](const httplib::Request& req, httplib::Response& res) {
+                   const Params params = params_of(req);
+                   const auto format = params.find("format");
+                   const std::string f = format == params.end() ? "exr" : format->second;
+                   int spp = 0;
+                   const int pane = int_of(params, "pane", 0);
+                   const std::string bytes = studio.download(pane, f, &spp);
+                   res.set_header("X-Studio-Spp", std::to_string(spp));
+                   res.set_header("Content-Disposition", "attachment; filename=\"studio_pane" +
+                                                             std::to_string(pane) + "_" +
+                                                             std::to_string(spp) + "spp." + f + "\"");
+                   res.set_content(bytes, f == "exr" ? "image/x-exr" : "image/png");
+               }));
+
+    if (port == 0) {
+        port = server.bind_to_any_port(bind);
+    } else if (!server.bind_to_port(bind, port)) {
+        port = -1;
+    }
+    if (port < 0) {
+        std::cerr << "studio: error: cannot listen on " << bind << " (port in use, or not an "
+                  << "address of this machine)\n";
+        return 2;
+    }
+    std::thread signals([&] {
+        int signal_number = 0;
+        sigwait(&stop_signals, &signal_number);
+        std::fprintf(stderr, "\nstudio: stopping\n");
+        server.stop();
+    });
+    std::printf("studio: serving http://%s:%d/%s\n", bind.c_str(), port,
+                bind == "127.0.0.1" ? "" : "  (not only this machine: every host that can reach it)");
+    std::fflush(stdout);
+    server.listen_after_bind();
+    studio.shutdown();
+    // The signal thread ends with the signal that stopped the server, or is woken to end here.
+    pthread_kill(signals.native_handle(), SIGTERM);
+    signals.join();
+    return 0;
+}
