@@ -9,8 +9,11 @@ if [ "${1:-}" = "--quick" ]; then
     CTEST_ARGS+=(--label-exclude slow)
 fi
 
-# The page test opens the lessons page in headless Chromium; the lessons run plots with gnuplot.
+# The page tests open the lessons page and the studio in headless Chromium (the studio's test
+# drives it with playwright-core from npm, installed by tests/studio/run.sh from its lock file);
+# the lessons run plots with gnuplot.
 install_missing_packages chromium gnuplot-nox
+command -v npm > /dev/null || install_missing_packages nodejs npm
 build_suite
 cd "$BUILD"
 ctest "${CTEST_ARGS[@]}"

@@ -89,21 +89,25 @@ TEST(Studio, ScenesAreTheTomlFilesOfTheGivenFoldersOnly) {
     }
     EXPECT_TRUE(box);
     EXPECT_TRUE(tiny);
-    for (const std::string& bad : std::vector<std::string>{"../../etc/passwd", "scenes/../../etc/passwd", "/etc/passwd",
-                                  kSource + "/scenes/cornell_box.toml", "scenes/cornell_box.toml",
-                                  "hard/meshes/cube"}) {
-        const std::string m =
-            message_of(studio, {{"scene", bad}, {"lesson", "01_ray_casting"}});
-        EXPECT_NE(m.find("is not one of the studio's scenes"), std::string::npos) << bad << ": " << m;
+    for (const std::string& bad : std::vector<std::string>{
+             "../../etc/passwd", "scenes/../../etc/passwd", "/etc/passwd",
+             kSource + "/scenes/cornell_box.toml", "scenes/cornell_box.toml", "hard/meshes/cube"}) {
+        const std::string m = message_of(studio, {{"scene", bad}, {"lesson", "01_ray_casting"}});
+        EXPECT_NE(m.find("is not one of the studio's scenes"), std::string::npos)
+            << bad << ": " << m;
     }
 }
 
 TEST(Studio, RequestsAreValidatedAsTheCommandLineIs) {
     Studio studio({{"scenes", kSource + "/scenes"}}, scratch("refs"), scratch("cache"),
                   small_limits(), 1);
-    const Params ok{{"scene", "scenes/cornell_box"}, {"lesson", "03_reflection_equation"},
-                    {"--estimator", "light"}, {"--width", "32"}, {"--height", "24"},
-                    {"--seed", "7"}, {"--spp", "8"}};
+    const Params ok{{"scene", "scenes/cornell_box"},
+                    {"lesson", "03_reflection_equation"},
+                    {"--estimator", "light"},
+                    {"--width", "32"},
+                    {"--height", "24"},
+                    {"--seed", "7"},
+                    {"--spp", "8"}};
     const std::vector<std::string> args = studio.command_line(ok);
     ASSERT_GE(args.size(), 3u);
     EXPECT_EQ(args[0], "03_reflection_equation");
@@ -134,8 +138,9 @@ TEST(Studio, RequestsAreValidatedAsTheCommandLineIs) {
     EXPECT_NE(with("--spp", "100000").find("--max-spp"), std::string::npos);
     EXPECT_NE(with("--spp", "ten").find("not an integer"), std::string::npos);
     // Flags that name files, and other lessons' flags, are not the page's to set.
-    for (const std::string& flag : std::vector<std::string>{"--out", "--report", "--reference", "--variance", "--threads",
-                                   "--plain", "--scene2", "pane2"})
+    for (const std::string& flag :
+         std::vector<std::string>{"--out", "--report", "--reference", "--variance", "--threads",
+                                  "--plain", "--scene2", "pane2"})
         EXPECT_NE(with(flag, "x").find("is not allowed"), std::string::npos) << flag;
     EXPECT_NE(with("lesson", "06_nothing").find("unknown"), std::string::npos);
     Params no_scene = ok;
@@ -177,18 +182,23 @@ TEST(Studio, LessonsOfferTheirOwnFlags) {
 TEST(Studio, DownloadEqualsTheCommandLinesImage) {
     const std::string out = scratch("download");
     Studio studio({{"scenes", kSource + "/scenes"}}, out, out, small_limits(), 1);
-    const Params p{{"scene", "scenes/cornell_spheres"}, {"lesson", "04_rendering_equation"},
-                   {"--width", "24"}, {"--height", "20"}, {"--seed", "3"}, {"--spp", "37"},
+    const Params p{{"scene", "scenes/cornell_spheres"},
+                   {"lesson", "04_rendering_equation"},
+                   {"--width", "24"},
+                   {"--height", "20"},
+                   {"--seed", "3"},
+                   {"--spp", "37"},
                    {"--bounces", "3"}};
     studio.start(0, p);
     ASSERT_TRUE(wait_for_spp(studio, 37));
     int spp = 0;
-    const std::string exr = studio.download(0, "exr", &spp);
+    const std::string exr = studio.download(0, "exr", 0.0f, &spp);
     EXPECT_EQ(spp, 37);
     std::string command = std::string(LESSONS_BIN_DIR) + "/04_rendering_equation --scene " +
                           kSource +
                           "/scenes/cornell_spheres.toml --width 24 --height 20 --seed 3 --spp 37 "
-                          "--bounces 3 --quiet --out " + out + "/cli";
+                          "--bounces 3 --quiet --out " +
+                          out + "/cli";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
     EXPECT_TRUE(exr == file_bytes(out + "/cli.exr")) << "the studio's EXR differs from the CLI's";
     // The series view (bounce layers 0..1 added) and the error view need no reference... but
@@ -204,8 +214,12 @@ TEST(Studio, DownloadEqualsTheCommandLinesImage) {
 TEST(Studio, ProbeGivesTheFurnacesIrradianceAndBrdf) {
     const std::string out = scratch("probe");
     Studio studio({{"scenes", kSource + "/scenes"}}, out, out, small_limits(), 1);
-    studio.start(0, {{"scene", "scenes/furnace"}, {"lesson", "04_rendering_equation"},
-                     {"--width", "16"}, {"--height", "16"}, {"--spp", "64"}, {"--albedo", "0.5"}});
+    studio.start(0, {{"scene", "scenes/furnace"},
+                     {"lesson", "04_rendering_equation"},
+                     {"--width", "16"},
+                     {"--height", "16"},
+                     {"--spp", "64"},
+                     {"--albedo", "0.5"}});
     ASSERT_TRUE(wait_for_spp(studio, 64));
     const std::string p = studio.probe_json(0, 8, 8, 0, 4096);
     const double E = json_field(p, "E"), se = json_field(p, "E_standard_error");
@@ -225,8 +239,11 @@ TEST(Studio, RestartsDoNotPileUp) {
     limits.max_spp = 1 << 16;
     Studio studio({{"scenes", kSource + "/scenes"}}, out, out, limits, 2);
     for (int k = 0; k < 20; ++k)
-        studio.start(k % 2, {{"scene", "scenes/cornell_box"}, {"lesson", "04_rendering_equation"},
-                             {"--width", "64"}, {"--height", "64"}, {"--seed", std::to_string(k)}});
+        studio.start(k % 2, {{"scene", "scenes/cornell_box"},
+                             {"lesson", "04_rendering_equation"},
+                             {"--width", "64"},
+                             {"--height", "64"},
+                             {"--seed", std::to_string(k)}});
     // Two panes, and at most the reference besides.
     EXPECT_LE(studio.live_renders(), 3);
     studio.shutdown();

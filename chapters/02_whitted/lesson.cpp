@@ -30,7 +30,8 @@ Lesson whitted_lesson() {
                        "Stop a branch when its path weight falls below this in every channel")
             ->check(CLI::Range(0.0, 1.0))
             ->capture_default_str();
-        app.add_option("--fresnel", flags->fresnel, "Fresnel reflectance of glass: exact or schlick")
+        app.add_option("--fresnel", flags->fresnel,
+                       "Fresnel reflectance of glass: exact or schlick")
             ->check(CLI::IsMember({"exact", "schlick"}))
             ->capture_default_str();
     };

@@ -10,14 +10,15 @@
 //   GET  /api/download?pane=P&format=exr|png     the image as the CLI writes it
 //
 // Every error is a 400 with {"error": message}; the render core is studio.cpp.
+#include <httplib.h>
 #include <malloc.h>
 #include <signal.h>
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
-#include <httplib.h>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include "io/report.h"
@@ -116,45 +117,105 @@ httplib::Server::Handler guarded(Handler handler) {
     };
 }
 
-}  // namespace
+// The API (see the top of this file), each handler guarded: RequestError -> 400.
+void add_routes(httplib::Server& server, Studio& studio, const std::string& bind, const int& port) {
+    server.Get("/api/config",
+               guarded([&studio, &bind, &port](const httplib::Request&, httplib::Response& res) {
+                   res.set_content(config_json(studio, bind, port), "application/json");
+               }));
+    server.Post("/api/start",
+                guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+                    Params params = params_of(req);
+                    const int pane = int_of(params, "pane", 0);
+                    const uint64_t generation = studio.start(pane, params);
+                    res.set_content("{\"generation\": " + std::to_string(generation) + "}",
+                                    "application/json");
+                }));
+    server.Post("/api/stop",
+                guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+                    studio.stop_pane(int_of(params_of(req), "pane", 0));
+                    res.set_content("{}", "application/json");
+                }));
+    server.Get("/api/status", guarded([&studio](const httplib::Request&, httplib::Response& res) {
+                   res.set_content(studio.status_json(), "application/json");
+               }));
+    server.Get("/api/frame",
+               guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+                   const Params params = params_of(req);
+                   const auto view = params.find("view");
+                   res.set_content(studio.frame_png(int_of(params, "pane", 0),
+                                                    view == params.end() ? "image" : view->second,
+                                                    exposure_of(params)),
+                                   "image/png");
+               }));
+    server.Get(
+        "/api/probe", guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+            const Params params = params_of(req);
+            res.set_content(studio.probe_json(int_of(params, "pane", 0), int_of(params, "x", -1),
+                                              int_of(params, "y", -1), int_of(params, "light", 0),
+                                              int_of(params, "samples", 1024)),
+                            "application/json");
+        }));
+    server.Get(
+        "/api/download", guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+            const Params params = params_of(req);
+            const auto format = params.find("format");
+            const std::string f = format == params.end() ? "exr" : format->second;
+            int spp = 0;
+            const int pane = int_of(params, "pane", 0);
+            const std::string bytes = studio.download(pane, f, exposure_of(params), &spp);
+            res.set_header("X-Studio-Spp", std::to_string(spp));
+            res.set_header("Content-Disposition", "attachment; filename=\"studio_pane" +
+                                                      std::to_string(pane) + "_" +
+                                                      std::to_string(spp) + "spp." + f + "\"");
+            res.set_content(bytes, f == "exr" ? "image/x-exr" : "image/png");
+        }));
+}
 
-int main(int argc, char** argv) {
-    CLI::App app("studio: the lessons rendering live in a browser, two side by side, with the error "
-                 "against a reference as they converge (docs/studio.md)",
-                 "studio");
+// The studio's flags.
+struct ServerOptions {
     int port = 8642;
     std::string bind = "127.0.0.1";
-    std::vector<std::string> scene_dirs;
+    std::vector<std::pair<std::string, std::string>> folders;  // (label, folder) of scenes
     std::string references = LESSONS_SOURCE_DIR "/out";
     std::string cache = LESSONS_SOURCE_DIR "/out/studio";
     std::string page = LESSONS_SOURCE_DIR "/tools/studio/page";
     Limits limits;
-    app.add_option("--port", port, "TCP port (0: any free port; the address is printed)")
+};
+
+// Reads the command line into `o`; an exit status if the studio stops here (--help: 0, bad: 2).
+std::optional<int> read_options(int argc, char** argv, ServerOptions& o) {
+    CLI::App app(
+        "studio: the lessons rendering live in a browser, two side by side, with the error "
+        "against a reference as they converge (docs/studio.md)",
+        "studio");
+    std::vector<std::string> scene_dirs;
+    app.add_option("--port", o.port, "TCP port (0: any free port; the address is printed)")
         ->check(CLI::Range(0, 65535))
         ->capture_default_str();
-    app.add_option("--bind", bind,
+    app.add_option("--bind", o.bind,
                    "Address to listen on. Only 127.0.0.1 (this machine) unless you give another "
                    "one, e.g. 0.0.0.0 to let a classroom's machines in; the page then says so")
         ->capture_default_str();
     app.add_option("--scenes", scene_dirs,
                    "Folders of scene files the page may choose from, each given once (default: "
                    "the suite's scenes/ and scenes/hard/); no other file can be chosen");
-    app.add_option("--references", references,
+    app.add_option("--references", o.references,
                    "Where scripts/lessons.sh wrote its references (<dir>/<scene>/reference.exr)")
         ->capture_default_str();
-    app.add_option("--cache", cache, "Where the studio keeps the references it renders")
+    app.add_option("--cache", o.cache, "Where the studio keeps the references it renders")
         ->capture_default_str();
-    app.add_option("--page", page, "The folder of the page's files")->capture_default_str();
-    app.add_option("--max-size", limits.max_side, "Largest image side a page may ask for")
+    app.add_option("--page", o.page, "The folder of the page's files")->capture_default_str();
+    app.add_option("--max-size", o.limits.max_side, "Largest image side a page may ask for")
         ->check(CLI::Range(16, 8192))
         ->capture_default_str();
-    app.add_option("--max-spp", limits.max_spp, "A pane's render stops at this many samples")
+    app.add_option("--max-spp", o.limits.max_spp, "A pane's render stops at this many samples")
         ->check(CLI::Range(1, 1 << 24))
         ->capture_default_str();
-    app.add_option("--threads", limits.threads, "Threads per pass (0: one per core)")
+    app.add_option("--threads", o.limits.threads, "Threads per pass (0: one per core)")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
-    app.add_option("--reference-spp", limits.reference_spp,
+    app.add_option("--reference-spp", o.limits.reference_spp,
                    "Samples per pixel of a reference the studio renders itself")
         ->check(CLI::Range(1, 1 << 20))
         ->capture_default_str();
@@ -168,21 +229,31 @@ int main(int argc, char** argv) {
     }
     if (scene_dirs.empty())
         scene_dirs = {LESSONS_SOURCE_DIR "/scenes", LESSONS_SOURCE_DIR "/scenes/hard"};
-    std::vector<std::pair<std::string, std::string>> folders;
     for (const std::string& dir : scene_dirs) {
         std::error_code ec;
         if (!std::filesystem::is_directory(dir, ec)) {
-            std::cerr << "studio: error: command line: --scenes: '" << dir
-                      << "' is not a folder\n";
+            std::cerr << "studio: error: command line: --scenes: '" << dir << "' is not a folder\n";
             return 2;
         }
-        folders.emplace_back(std::filesystem::path(dir).lexically_normal().filename().string(),
-                             dir);
+        // The folder's own name labels its scenes ("scenes/cornell_box", "hard/cornell_tiny").
+        std::filesystem::path name = std::filesystem::path(dir).lexically_normal();
+        if (name.filename().empty()) name = name.parent_path();
+        o.folders.emplace_back(name.filename().string(), dir);
     }
-    if (!std::filesystem::is_regular_file(page + "/index.html")) {
-        std::cerr << "studio: error: command line: --page: no index.html in '" << page << "'\n";
+    if (!std::filesystem::is_regular_file(o.page + "/index.html")) {
+        std::cerr << "studio: error: command line: --page: no index.html in '" << o.page << "'\n";
         return 2;
     }
+    return std::nullopt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    ServerOptions o;
+    if (const std::optional<int> status = read_options(argc, argv, o)) return *status;
+    std::string& bind = o.bind;
+    int& port = o.port;
 
     // The HTTP server's pool has a dozen threads; glibc would give each one its own malloc arena,
     // each holding on to memory it freed, and the studio's memory would grow with the number of
@@ -198,60 +269,15 @@ int main(int argc, char** argv) {
     sigaddset(&stop_signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-    Studio studio(folders, references, cache, limits);
+    Studio studio(o.folders, o.references, o.cache, o.limits);
     httplib::Server server;
     server.set_payload_max_length(1 << 16);
     server.set_keep_alive_max_count(100);
-    server.set_mount_point("/", page);
+    server.set_mount_point("/", o.page);
     server.set_file_extension_and_mimetype_mapping("js", "text/javascript");
     server.set_default_headers({{"Cache-Control", "no-store"}});
 
-    server.Get("/api/config", guarded([&](const httplib::Request&, httplib::Response& res) {
-                   res.set_content(config_json(studio, bind, port), "application/json");
-               }));
-    server.Post("/api/start", guarded([&](const httplib::Request& req, httplib::Response& res) {
-                    Params params = params_of(req);
-                    const int pane = int_of(params, "pane", 0);
-                    const uint64_t generation = studio.start(pane, params);
-                    res.set_content("{\"generation\": " + std::to_string(generation) + "}",
-                                    "application/json");
-                }));
-    server.Post("/api/stop", guarded([&](const httplib::Request& req, httplib::Response& res) {
-                    studio.stop_pane(int_of(params_of(req), "pane", 0));
-                    res.set_content("{}", "application/json");
-                }));
-    server.Get("/api/status", guarded([&](const httplib::Request&, httplib::Response& res) {
-                   res.set_content(studio.status_json(), "application/json");
-               }));
-    server.Get("/api/frame", guarded([&](const httplib::Request& req, httplib::Response& res) {
-                   const Params params = params_of(req);
-                   const auto view = params.find("view");
-                   res.set_content(studio.frame_png(int_of(params, "pane", 0),
-                                                    view == params.end() ? "image" : view->second,
-                                                    exposure_of(params)),
-                                   "image/png");
-               }));
-    server.Get("/api/probe", guarded([&](const httplib::Request& req, httplib::Response& res) {
-                   const Params params = params_of(req);
-                   res.set_content(
-                       studio.probe_json(int_of(params, "pane", 0), int_of(params, "x", -1),
-                                         int_of(params, "y", -1), int_of(params, "light", 0),
-                                         int_of(params, "samples", 1024)),
-                       "application/json");
-               }));
-    server.Get("/api/download", guarded([&](const httplib::Request& req, httplib::Response& res) {
-                   const Params params = params_of(req);
-                   const auto format = params.find("format");
-                   const std::string f = format == params.end() ? "exr" : format->second;
-                   int spp = 0;
-                   const int pane = int_of(params, "pane", 0);
-                   const std::string bytes = studio.download(pane, f, &spp);
-                   res.set_header("X-Studio-Spp", std::to_string(spp));
-                   res.set_header("Content-Disposition", "attachment; filename=\"studio_pane" +
-                                                             std::to_string(pane) + "_" +
-                                                             std::to_string(spp) + "spp." + f + "\"");
-                   res.set_content(bytes, f == "exr" ? "image/x-exr" : "image/png");
-               }));
+    add_routes(server, studio, bind, port);
 
     if (port == 0) {
         port = server.bind_to_any_port(bind);
@@ -269,8 +295,9 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "\nstudio: stopping\n");
         server.stop();
     });
-    std::printf("studio: serving http://%s:%d/%s\n", bind.c_str(), port,
-                bind == "127.0.0.1" ? "" : "  (not only this machine: every host that can reach it)");
+    std::printf(
+        "studio: serving http://%s:%d/%s\n", bind.c_str(), port,
+        bind == "127.0.0.1" ? "" : "  (not only this machine: every host that can reach it)");
     std::fflush(stdout);
     server.listen_after_bind();
     studio.shutdown();

@@ -1,6 +1,8 @@
 // The studio's core (see studio.h).
 #include "studio.h"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -9,8 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <unistd.h>
 
 #include "all_lessons.h"
 #include "io/image.h"
@@ -125,8 +125,12 @@ const RegisteredLesson* find_lesson(const std::string& name) {
     return nullptr;
 }
 
-bool truthy(const std::string& v) { return v == "1" || v == "true" || v == "on" || v == "yes"; }
-bool falsy(const std::string& v) { return v.empty() || v == "0" || v == "false" || v == "off"; }
+bool truthy(const std::string& v) {
+    return v == "1" || v == "true" || v == "on" || v == "yes";
+}
+bool falsy(const std::string& v) {
+    return v.empty() || v == "0" || v == "false" || v == "off";
+}
 
 int int_param(const Params& params, const std::string& key, int fallback) {
     const auto it = params.find(key);
@@ -211,12 +215,61 @@ std::string read_file_bytes(const std::string& path) {
     return ss.str();
 }
 
+// Whether two renders are of the same scene at the same size (so one can be the other's
+// reference).
+bool same_image(const PaneState& a, const PaneState& b) {
+    return a.scene_id == b.scene_id && a.inputs.scene.width == b.inputs.scene.width &&
+           a.inputs.scene.height == b.inputs.scene.height;
+}
+
+// A finished background reference, kept where the studio looks for its references next time.
+void cache_reference(const PaneState& job, const RenderResult& result) {
+    try {
+        fs::create_directories(fs::path(job.reference_path).parent_path());
+        write_exr(result.image, job.reference_path + ".exr");
+        write_exr(result.variance, job.reference_path + "_variance.exr");
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "studio: cannot cache the reference: %s\n", e.what());
+    }
+}
+
+// The direct irradiance at a surface point, E = integral of L_i cos(theta_i) over the hemisphere
+// about `n` (the viewer's side): `samples` samples of the lessons' light sampler (a light by
+// power, a point on it, a shadow ray), their mean and its standard error, W/m^2.
+struct Irradiance {
+    Color mean, standard_error;
+};
+Irradiance direct_irradiance(const Scene& scene, const SurfaceInteraction& si, const Vec3& n,
+                             int samples, uint64_t pixel) {
+    const LightSampler sampler(scene);
+    Rng rng(12345, pixel, 0);
+    glm::dvec3 sum(0.0), sum2(0.0);
+    for (int k = 0; k < samples; ++k) {
+        const float u = rng.uniform();
+        const Vec2 uv{rng.uniform(), rng.uniform()};
+        Color e(0.0f);
+        if (const std::optional<LightSample> ls = sampler.sample(si.surface_point(), u, uv)) {
+            const float cos_i = glm::dot(ls->wi, n);
+            if (cos_i > 0.0f && ls->pdf > 0.0f && !scene.occluded(ls->shadow_ray, ls->emitter))
+                e = ls->radiance * (cos_i / ls->pdf);
+        }
+        const glm::dvec3 d(e);
+        sum += d;
+        sum2 += d * d;
+    }
+    const glm::dvec3 mean = sum / double(samples);
+    const glm::dvec3 var = samples > 1
+                               ? (sum2 / double(samples) - mean * mean) / double(samples - 1)
+                               : glm::dvec3(0.0);
+    return {Color(mean), Color(glm::sqrt(glm::max(var, glm::dvec3(0.0))))};
+}
+
 }  // namespace
 
 const std::vector<std::string>& common_flags() {
-    static const std::vector<std::string> flags{"--width", "--height",  "--spp",    "--seed",
-                                                "--sampler", "--clamp", "--albedo", "--naive",
-                                                "--exposure"};
+    static const std::vector<std::string> flags{"--width",  "--height",  "--spp",
+                                                "--seed",   "--sampler", "--clamp",
+                                                "--albedo", "--naive",   "--exposure"};
     return flags;
 }
 
@@ -244,7 +297,9 @@ Studio::Studio(std::vector<std::pair<std::string, std::string>> folders, std::st
     worker_ = std::thread([this] { worker_loop(); });
 }
 
-Studio::~Studio() { shutdown(); }
+Studio::~Studio() {
+    shutdown();
+}
 
 void Studio::shutdown() {
     {
@@ -376,8 +431,9 @@ uint64_t Studio::start(int pane_index, const Params& params) {
     // The reference: lessons.sh's for this scene and size, the studio's own, or one to render.
     std::optional<FoundReference> found;
     const fs::path lessons_dir = fs::path(references_) / fs::path(scene->path).stem();
-    found = read_reference_file(lessons_dir / "reference.exr", lessons_dir / "reference_variance.exr",
-                                w, h, scene->path, "scripts/lessons.sh:");
+    found =
+        read_reference_file(lessons_dir / "reference.exr", lessons_dir / "reference_variance.exr",
+                            w, h, scene->path, "scripts/lessons.sh:");
     if (!found) {
         const std::string stem = cache_stem(cache_, *scene, w, h, limits_.reference_spp);
         found = read_reference_file(stem + ".exr", stem + "_variance.exr", w, h, scene->path,
@@ -399,10 +455,7 @@ uint64_t Studio::start(int pane_index, const Params& params) {
         if (ref && !ref->done) {
             bool wanted = false;
             for (size_t i = 0; i + 1 < panes_.size(); ++i)
-                wanted |= panes_[i] && !panes_[i]->reference &&
-                          panes_[i]->scene_id == ref->scene_id &&
-                          panes_[i]->inputs.scene.width == ref->inputs.scene.width &&
-                          panes_[i]->inputs.scene.height == ref->inputs.scene.height;
+                wanted |= panes_[i] && !panes_[i]->reference && same_image(*panes_[i], *ref);
             if (!wanted) ref->stop = true;
         }
     }
@@ -436,9 +489,17 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
     auto state = std::make_shared<PaneState>();
     state->is_reference = true;
     state->scene_id = scene_id;
-    state->args = {registered->name, "--scene",  scene_path, "--width",
-                   std::to_string(width), "--height", std::to_string(height), "--spp",
-                   std::to_string(limits_.reference_spp), "--seed", "1000003"};
+    state->args = {registered->name,
+                   "--scene",
+                   scene_path,
+                   "--width",
+                   std::to_string(width),
+                   "--height",
+                   std::to_string(height),
+                   "--spp",
+                   std::to_string(limits_.reference_spp),
+                   "--seed",
+                   "1000003"};
     state->lesson = registered->make();
     CLI::App app;
     try {
@@ -450,8 +511,8 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
     for (const SceneEntry& s : scenes_)
         if (s.id == scene_id)
             state->reference_path = cache_stem(cache_, s, width, height, limits_.reference_spp);
-    state->films = std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model,
-                                                      0.0f);
+    state->films =
+        std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model, 0.0f);
     state->settings = render_settings(state->options);
     state->settings.threads = limits_.threads;
     state->settings.stop = &state->stop;
@@ -462,40 +523,57 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
     panes_.back() = state;
 }
 
-void Studio::worker_loop() {
-    std::unique_ptr<ProgressiveFilms> films_in_hand;
-    for (;;) {
-        std::shared_ptr<PaneState> job;
-        {
-            std::unique_lock<std::mutex> lock(mutex_);
-            wake_.wait(lock, [&] {
-                if (quit_) return true;
-                for (const auto& p : panes_)
-                    if (p && !p->done && p->films && !p->stop) return true;
-                return false;
-            });
-            if (quit_) return;
-            // In turn: the next pane after the last one served that has work.
-            for (size_t k = 1; k <= panes_.size(); ++k) {
-                const size_t i = (turn_ + k) % panes_.size();
-                if (panes_[i] && !panes_[i]->done && panes_[i]->films && !panes_[i]->stop) {
-                    job = panes_[i];
-                    turn_ = i;
-                    break;
-                }
-            }
-            // The worker alone touches the films while it renders into them.
-            films_in_hand = std::move(job->films);
-            job->busy = true;
+std::shared_ptr<PaneState> Studio::next_job(std::unique_ptr<ProgressiveFilms>& films) {
+    auto has_work = [](const std::shared_ptr<PaneState>& p) {
+        return p && !p->done && p->films && !p->stop;
+    };
+    std::unique_lock<std::mutex> lock(mutex_);
+    wake_.wait(lock, [&] { return quit_ || std::any_of(panes_.begin(), panes_.end(), has_work); });
+    if (quit_) return nullptr;
+    // In turn: the next pane after the last one served that has work.
+    std::shared_ptr<PaneState> job;
+    for (size_t k = 1; k <= panes_.size() && !job; ++k) {
+        const size_t i = (turn_ + k) % panes_.size();
+        if (has_work(panes_[i])) job = panes_[turn_ = i];
+    }
+    // The worker alone touches the films while it renders into them.
+    films = std::move(job->films);
+    job->busy = true;
+    return job;
+}
+
+std::shared_ptr<Snapshot> Studio::snapshot_of(const PaneState& job,
+                                              const ProgressiveFilms& films) const {
+    auto snapshot = std::make_shared<Snapshot>();
+    snapshot->spp = films.samples();
+    snapshot->result = films.result();
+    snapshot->wall_seconds = std::chrono::duration<double>(Clock::now() - job.started).count();
+    std::shared_ptr<const Image> reference;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        reference = job.reference;
+        if (job.snapshot) {
+            snapshot->chart = job.snapshot->chart;
+            snapshot->passes = job.snapshot->passes;
         }
-        ProgressiveFilms& films = *films_in_hand;
-        const int end = std::min(job->target, films.samples() + job->batch);
+    }
+    snapshot->passes += 1;
+    if (reference)
+        snapshot->chart.push_back({snapshot->spp, snapshot->result.stats.seconds,
+                                   compare_images(snapshot->result.image, *reference)});
+    return snapshot;
+}
+
+void Studio::worker_loop() {
+    std::unique_ptr<ProgressiveFilms> films;
+    while (std::shared_ptr<PaneState> job = next_job(films)) {
+        const int end = std::min(job->target, films->samples() + job->batch);
         const auto t0 = Clock::now();
-        const bool whole = films.render_to(end, job->settings);
+        const bool whole = films->render_to(end, job->settings);
         const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
         if (!whole) {
             // Stopped: replaced by a new render (or the studio quits); nothing to publish.
-            films_in_hand.reset();
+            films.reset();
             std::lock_guard<std::mutex> lock(mutex_);
             job->busy = false;
             continue;
@@ -506,57 +584,28 @@ void Studio::worker_loop() {
             job->batch *= 2;
         else if (dt > 0.5 && job->batch > 1)
             job->batch /= 2;
-        auto snapshot = std::make_shared<Snapshot>();
-        snapshot->spp = films.samples();
-        snapshot->result = films.result();
-        snapshot->wall_seconds = std::chrono::duration<double>(Clock::now() - job->started).count();
-        std::shared_ptr<const Image> reference;
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            reference = job->reference;
-            if (job->snapshot) {
-                snapshot->chart = job->snapshot->chart;
-                snapshot->passes = job->snapshot->passes;
-            }
-        }
-        snapshot->passes += 1;
-        if (reference)
-            snapshot->chart.push_back({snapshot->spp, snapshot->result.stats.seconds,
-                                       compare_images(snapshot->result.image, *reference)});
+        const std::shared_ptr<Snapshot> snapshot = snapshot_of(*job, *films);
         const bool finished = snapshot->spp >= job->target;
-        if (finished && job->is_reference) {
-            // Kept for next time, where the studio finds its references.
-            try {
-                fs::create_directories(fs::path(job->reference_path).parent_path());
-                write_exr(snapshot->result.image, job->reference_path + ".exr");
-                write_exr(snapshot->result.variance, job->reference_path + "_variance.exr");
-            } catch (const std::exception& e) {
-                std::fprintf(stderr, "studio: cannot cache the reference: %s\n", e.what());
-            }
-        }
-        if (finished || job->stop) films_in_hand.reset();
+        if (finished && job->is_reference) cache_reference(*job, snapshot->result);
+        if (finished || job->stop) films.reset();
+
         std::lock_guard<std::mutex> lock(mutex_);
         job->busy = false;
-        if (!finished && !job->stop) job->films = std::move(films_in_hand);
+        if (!finished && !job->stop) job->films = std::move(films);
         if (job->stop) continue;  // restarted during the pass: its frame is not shown
         snapshot->version = next_version_++;
         job->snapshot = snapshot;
-        if (finished) {
-            job->done = true;
-            if (job->is_reference) {
-                // Every pane of this scene and size measures against it from now on.
-                auto image = std::make_shared<const Image>(snapshot->result.image);
-                const double noise = mean_variance(snapshot->result.variance);
-                for (size_t i = 0; i + 1 < panes_.size(); ++i) {
-                    const auto& p = panes_[i];
-                    if (p && !p->reference && p->scene_id == job->scene_id &&
-                        p->inputs.scene.width == job->inputs.scene.width &&
-                        p->inputs.scene.height == job->inputs.scene.height) {
-                        p->reference = image;
-                        p->reference_noise = noise;
-                        p->reference_source =
-                            "rendered by the studio: " + job->reference_path + ".exr";
-                    }
+        job->done = finished;
+        if (finished && job->is_reference) {
+            // Every pane of this scene and size measures against it from now on.
+            auto image = std::make_shared<const Image>(snapshot->result.image);
+            const double noise = mean_variance(snapshot->result.variance);
+            for (size_t i = 0; i + 1 < panes_.size(); ++i) {
+                PaneState* p = panes_[i].get();
+                if (p && !p->reference && same_image(*p, *job)) {
+                    p->reference = image;
+                    p->reference_noise = noise;
+                    p->reference_source = "rendered by the studio: " + job->reference_path + ".exr";
                 }
             }
         }
@@ -577,8 +626,10 @@ std::string Studio::status_json() const {
     for (size_t i = 0; i < panes_.size(); ++i) {
         const auto& p = panes_[i];
         const bool is_ref = i + 1 == panes_.size();
-        if (is_ref) s += "], \"reference\": ";
-        else if (i) s += ", ";
+        if (is_ref)
+            s += "], \"reference\": ";
+        else if (i)
+            s += ", ";
         if (!p) {
             s += is_ref ? "null" : "{\"state\": \"idle\"}";
             continue;
@@ -620,8 +671,8 @@ std::string Studio::status_json() const {
                 double sum = 0.0;
                 for (const Color& c : snap->result.layers[k].pixels) sum += luminance(c);
                 const double n = static_cast<double>(snap->result.image.pixels.size());
-                s += std::string(k ? ", " : "") + "{\"name\": " +
-                     json_quote(p->inputs.model.layer_names[k]) +
+                s += std::string(k ? ", " : "") +
+                     "{\"name\": " + json_quote(p->inputs.model.layer_names[k]) +
                      ", \"share\": " + json_number(total > 0 ? sum / total : 0.0) +
                      ", \"mean\": " + json_number(n > 0 ? sum / n : 0.0) + "}";
             }
@@ -718,8 +769,9 @@ std::string Studio::probe_json(int pane_index, int x, int y, int light, int samp
     for (size_t k = 0; k < r.layers.size(); ++k) {
         const Color v = r.layers[k].at(x, y);
         const float total = luminance(L);
-        s += std::string(k ? ", " : "") + "{\"name\": " +
-             json_quote(p->inputs.model.layer_names[k]) + ", \"value\": " + json_color(v) +
+        s += std::string(k ? ", " : "") +
+             "{\"name\": " + json_quote(p->inputs.model.layer_names[k]) +
+             ", \"value\": " + json_color(v) +
              ", \"share\": " + json_number(total > 0 ? luminance(v) / total : 0.0) + "}";
     }
     s += "]";
@@ -732,46 +784,28 @@ std::string Studio::probe_json(int pane_index, int x, int y, int light, int samp
     static const char* kinds[] = {"sphere", "quad", "triangle"};
     s += ", \"hit\": {\"shape\": \"" + std::string(kinds[static_cast<int>(hit->prim.kind())]) +
          " " + std::to_string(hit->prim.index()) + "\", \"material\": " + json_quote(m.name) +
-         ", \"type\": \"" + material_type_name(m.type) + "\", \"distance\": " +
-         json_number(si.t) + ", \"position\": " + json_color(si.p) +
-         ", \"front\": " + (si.front ? "true" : "false") + "}";
+         ", \"type\": \"" + material_type_name(m.type) + "\", \"distance\": " + json_number(si.t) +
+         ", \"position\": " + json_color(si.p) + ", \"front\": " + (si.front ? "true" : "false") +
+         "}";
 
     // E = integral of L_i cos(theta_i) over the hemisphere on the viewer's side, estimated from
     // the lesson's own light sampler (direct light only), with its standard error.
     const Bsdf bsdf(m, si);
     Vec3 n = bsdf.normal();
     if (glm::dot(n, si.wo) < 0.0f) n = -n;
-    const LightSampler sampler(scene);
-    Rng rng(12345, static_cast<uint64_t>(y) * scene.width + x, 0);
-    glm::dvec3 sum(0.0), sum2(0.0);
-    for (int k = 0; k < samples; ++k) {
-        const float u = rng.uniform();
-        const Vec2 uv{rng.uniform(), rng.uniform()};
-        Color e(0.0f);
-        if (const std::optional<LightSample> ls = sampler.sample(si.surface_point(), u, uv)) {
-            const float cos_i = glm::dot(ls->wi, n);
-            if (cos_i > 0.0f && ls->pdf > 0.0f && !scene.occluded(ls->shadow_ray, ls->emitter))
-                e = ls->radiance * (cos_i / ls->pdf);
-        }
-        const glm::dvec3 d(e);
-        sum += d;
-        sum2 += d * d;
-    }
-    const glm::dvec3 mean = sum / double(samples);
-    const glm::dvec3 e_var = samples > 1
-                                 ? (sum2 / double(samples) - mean * mean) / double(samples - 1)
-                                 : glm::dvec3(0.0);
-    s += ", \"E\": " + json_color(Color(mean));
-    s += ", \"E_standard_error\": " +
-         json_color(Color(glm::sqrt(glm::max(e_var, glm::dvec3(0.0)))));
+    const Irradiance E =
+        direct_irradiance(scene, si, n, samples, static_cast<uint64_t>(y) * scene.width + x);
+    s += ", \"E\": " + json_color(E.mean);
+    s += ", \"E_standard_error\": " + json_color(E.standard_error);
     s += ", \"E_samples\": " + std::to_string(samples) + ", \"E_units\": \"W/m^2\"";
     // f(wo, wi) towards the chosen light's position (a point light) or centre (an area light).
     if (light >= 0 && light < static_cast<int>(lights.size())) {
         const Vec3 wi = glm::normalize(lights[light].position - si.p);
-        s += ", \"f_light\": " + json_quote(lights[light].what) + ", \"cos_theta_i\": " +
-             json_number(glm::dot(wi, n));
+        s += ", \"f_light\": " + json_quote(lights[light].what) +
+             ", \"cos_theta_i\": " + json_number(glm::dot(wi, n));
         if (bsdf.is_delta())
-            s += ", \"f\": null, \"f_note\": \"a delta BSDF (" + std::string(material_type_name(m.type)) +
+            s += ", \"f\": null, \"f_note\": \"a delta BSDF (" +
+                 std::string(material_type_name(m.type)) +
                  "): f is a Dirac distribution, nonzero only along the mirror or refracted "
                  "direction, with no finite value\"";
         else
@@ -781,7 +815,8 @@ std::string Studio::probe_json(int pane_index, int x, int y, int light, int samp
     return s + "}";
 }
 
-std::string Studio::download(int pane_index, const std::string& format, int* spp) const {
+std::string Studio::download(int pane_index, const std::string& format, float exposure,
+                             int* spp) const {
     const std::shared_ptr<PaneState> p = pane(pane_index);
     std::shared_ptr<const Snapshot> snap;
     {
@@ -794,7 +829,7 @@ std::string Studio::download(int pane_index, const std::string& format, int* spp
     *spp = snap->spp;
     if (format == "png")
         return encode_png(snap->result.image.width, snap->result.image.height,
-                          display_bytes(snap->result.image, p->options.exposure));
+                          display_bytes(snap->result.image, exposure));
     // The CLI's own writer, so the bytes are the CLI's.
     static std::atomic<uint64_t> counter{0};
     fs::create_directories(cache_);

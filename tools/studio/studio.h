@@ -35,9 +35,9 @@ public:
 };
 
 struct Limits {
-    int max_side = 1024;     // --width/--height at most this
-    int max_spp = 1 << 16;   // a pane stops at this many samples per pixel
-    int threads = 0;         // per pass; 0: one per core
+    int max_side = 1024;    // --width/--height at most this
+    int max_spp = 1 << 16;  // a pane stops at this many samples per pixel
+    int threads = 0;        // per pass; 0: one per core
     int reference_spp = 1024;
 };
 
@@ -92,7 +92,9 @@ public:
     const std::vector<SceneEntry>& scenes() const { return scenes_; }
     const std::vector<LessonInfo>& lessons() const { return lessons_; }
     const Limits& limits() const { return limits_; }
-    int pane_count() const { return static_cast<int>(panes_.size()) - 1; }  // the last: the reference
+    int pane_count() const {
+        return static_cast<int>(panes_.size()) - 1;
+    }  // the last: the reference
 
     // The lesson's command line for these parameters (scene, lesson, width, height, seed, spp,
     // and the lesson's and common flags as "--flag" keys); throws RequestError for a parameter
@@ -113,7 +115,8 @@ public:
     // standard error, the direct irradiance E there, f towards light `light`, layer shares.
     std::string probe_json(int pane, int x, int y, int light, int samples) const;
     // The pane's image as the CLI writes it: EXR or PNG bytes, and the spp they hold.
-    std::string download(int pane, const std::string& format, int* spp) const;
+    // (The PNG at this exposure, as the CLI's --exposure.)
+    std::string download(int pane, const std::string& format, float exposure, int* spp) const;
 
     // Stops every render and the worker (Ctrl-C).
     void shutdown();
@@ -123,6 +126,11 @@ public:
 
 private:
     void worker_loop();
+    // Waits for a render with work (in turn) and hands its films to the worker; null on quit.
+    std::shared_ptr<PaneState> next_job(std::unique_ptr<ProgressiveFilms>& films);
+    // What a render shows after a pass: its result and its error chart, one point longer.
+    std::shared_ptr<Snapshot> snapshot_of(const PaneState& job,
+                                          const ProgressiveFilms& films) const;
     std::shared_ptr<PaneState> pane(int index) const;
     void want_reference(const std::string& scene_id, const std::string& scene_path, int width,
                         int height);

@@ -183,13 +183,13 @@ function updatePane(i, s) {
     img.src = frameUrl(i, s);
   }
   pane.exr.href = `/api/download?pane=${i}&format=exr`;
-  pane.png.href = `/api/download?pane=${i}&format=png`;
+  pane.png.href = `/api/download?pane=${i}&format=png&exposure=${$('exposure').value}`;
 }
 
 function drawChart(status) {
   const canvas = $('chart');
   const ctx = canvas.getContext('2d');
-  const W = canvas.width, H = canvas.height, L = 70, B = 40, T = 10, R = 160;
+  const W = canvas.width, H = canvas.height, L = 70, B = 40, T = 10, R = 230;
   ctx.clearRect(0, 0, W, H);
   const series = status.panes.map((p) => (p && p.chart) || []);
   const points = series.flat().filter((q) => q[1] > 0 && q[2] > 0);
@@ -310,7 +310,7 @@ async function showProbe() {
     }
     const rows = [['pixel', `(${x}, ${y}) of pane ${pane + 1}, ${p.spp} spp`, '']];
     if (p.hit) {
-      rows.push(['surface', `${p.hit.shape}, ${p.hit.front ? 'front' : 'back'} side, at distance ${fmt(p.hit.distance)}`, 'm']);
+      rows.push(['surface', `${p.hit.shape}, ${p.hit.front ? 'front' : 'back'} side, at distance ${fmt(p.hit.distance)}`, "the scene's units"]);
       rows.push(['material', `${p.hit.material} (${p.hit.type})`, '']);
     } else rows.push(['surface', 'none: the ray escapes to the background', '']);
     rows.push(['radiance L (mean)', triple(p.L), p.L_units]);
@@ -377,6 +377,8 @@ async function init() {
     pane.exr.download = ''; pane.png.download = '';
   }
   for (const id of ['scene', 'width', 'height', 'seed', 'spp', 'sampler']) $(id).addEventListener('change', () => { describe(); restartAll(); });
+  // A probed pixel belongs to its scene and size.
+  for (const id of ['scene', 'width', 'height']) $(id).addEventListener('change', () => { studio.lastProbe = null; studio.probe = null; $('probe').textContent = 'No pixel chosen.'; });
   $('exposure').addEventListener('input', () => { $('exposure-value').textContent = $('exposure').value; });
   for (const id of ['albedo', 'albedo-on']) $(id).addEventListener('change', () => { albedoNote(); restartAll(); });
   $('albedo').addEventListener('input', albedoNote);
