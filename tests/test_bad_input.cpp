@@ -4,8 +4,10 @@
 // "# expect-warning: TEXT" (a warning containing TEXT, and a normal render).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -155,4 +157,54 @@ TEST(Interruption, ASecondSignalExitsAtOnce) {
     }
     EXPECT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+}
+
+// Files that fight back: a scene or mesh that is a device or a FIFO, or larger than its cap, is
+// refused at once (exit 2, a message naming it), and a binary file's bytes never reach the
+// terminal raw.
+TEST(BadInput, NonRegularAndOversizedFilesAreRefusedAtOnce) {
+    const fs::path work = fs::temp_directory_path() / ("lessons_files_" + std::to_string(getpid()));
+    fs::remove_all(work);
+    fs::create_directories(work);
+    const fs::path fifo = work / "scene.fifo";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const std::string exe = kBin + "/04_rendering_equation --spp 1 --quiet --out " +
+                            (work / "img").string() + " ";
+    struct Case {
+        std::string args, expected;
+    };
+    const std::vector<Case> cases = {
+        {"--scene /dev/zero", "/dev/zero: is not a regular file"},
+        {"--scene " + fifo.string(), "is not a regular file"},
+        {"--scene " + kSource + "/scenes", "is a directory"},
+        {"--scene " + kSource + "/scenes/cornell_box.toml --max-scene-mb 0.001",
+         "bytes allowed for a scene file (raise --max-scene-mb)"},
+        {"--scene " + kSource + "/scenes/hard/lowpoly_sphere.toml --max-file-mb 0.0001",
+         "bytes allowed for an OBJ file (raise --max-file-mb)"},
+    };
+    for (const Case& c : cases) {
+        const auto start = std::chrono::steady_clock::now();
+        const Result r = run(exe + c.args, work / "log.txt");
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        SCOPED_TRACE(c.args + ":\n" + r.output);
+        EXPECT_EQ(r.exit_code, 2);
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected: " << c.expected;
+        EXPECT_LT(seconds, 5.0);  // at once: nothing is read (the bound is one second)
+        EXPECT_FALSE(fs::exists(work / "img.exr"));
+    }
+    fs::remove_all(work);
+}
+
+TEST(BadInput, ABinaryMeshsBytesAreEscapedInTheMessage) {
+    const fs::path log = fs::temp_directory_path() / ("lessons_binary_" + std::to_string(getpid()));
+    const Result r = run(kBin + "/01_ray_casting --quiet --spp 1 --scene " + kSource +
+                             "/tests/bad_input/mesh_binary.toml --out " + log.string() + "_img",
+                         log);
+    EXPECT_EQ(r.exit_code, 2);
+    for (const char c : r.output)
+        EXPECT_TRUE(c == '\n' || static_cast<unsigned char>(c) >= 0x20)
+            << "a raw control byte " << int(static_cast<unsigned char>(c)) << " in: " << r.output;
+    EXPECT_NE(r.output.find("\\x01\\x02\\xFF\\x7F"), std::string::npos) << r.output;
+    fs::remove(log);
 }

@@ -249,3 +249,50 @@ TEST(Studio, RestartsDoNotPileUp) {
     studio.shutdown();
     EXPECT_EQ(studio.live_renders(), 0);
 }
+
+// A render larger than the studio's memory budget is refused before anything is allocated.
+TEST(Studio, RendersBeyondTheMemoryBudgetAreRefused) {
+    const std::string out = scratch("budget");
+    Limits limits = small_limits();
+    limits.memory_mb = 0.5;
+    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, limits, 1);
+    try {
+        studio.start(0, {{"scene", "scenes/cornell_box"}, {"lesson", "04_rendering_equation"},
+                         {"--width", "128"}, {"--height", "128"}, {"--bounces", "8"}});
+        FAIL() << "expected a refusal";
+    } catch (const RequestError& e) {
+        EXPECT_NE(std::string(e.what()).find("--max-memory-mb"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(studio.live_renders(), 0);
+}
+
+// The background reference follows the panes: leaving a scene for one that has a reference
+// stops it, coming back starts it again (not "already rendering" a stopped one), and a pane with
+// --albedo gets a reference with the same albedo.
+TEST(Studio, TheBackgroundReferenceFollowsThePanes) {
+    const std::string out = scratch("reference");
+    std::filesystem::create_directories(out + "/cornell_box");
+    write_exr(Image(16, 16), out + "/cornell_box/reference.exr");
+    Limits limits = small_limits();
+    limits.reference_spp = 1 << 14;  // long enough to be seen rendering
+    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, limits, 1);
+    const Params furnace{{"scene", "scenes/furnace"}, {"lesson", "01_ray_casting"},
+                         {"--width", "16"}, {"--height", "16"}, {"--spp", "4"}};
+    Params box = furnace;
+    box["scene"] = "scenes/cornell_box";
+    auto reference = [&] {
+        const std::string s = studio.status_json();
+        return s.substr(s.find("\"reference\": {"));
+    };
+    studio.start(0, furnace);
+    EXPECT_NE(reference().find("\"scene\": \"scenes/furnace\""), std::string::npos);
+    studio.start(0, box);  // has lessons.sh's reference: the furnace's is not needed any more
+    EXPECT_NE(reference().find("\"state\": \"stopped\""), std::string::npos) << reference();
+    EXPECT_NE(studio.status_json().find("scripts/lessons.sh:"), std::string::npos);
+    studio.start(0, furnace);
+    EXPECT_NE(reference().find("\"state\": \"rendering\""), std::string::npos) << reference();
+    Params grey = furnace;
+    grey["--albedo"] = "0.5";
+    studio.start(0, grey);
+    EXPECT_NE(reference().find("--albedo 0.5"), std::string::npos) << reference();
+}

@@ -3,18 +3,51 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <vector>
 
 namespace lessons {
 
 namespace {
+
+// The length of the valid UTF-8 sequence starting at s[i], or 0.
+size_t utf8_length(const std::string& s, size_t i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+    if (n == 0 || c >= 0xF5 || i + n > s.size()) return 0;
+    for (size_t k = 1; k < n; ++k)
+        if ((static_cast<unsigned char>(s[i + k]) & 0xC0) != 0x80) return 0;
+    return n;
+}
+
+// Control bytes and broken UTF-8 as \xNN: a message from a binary file must not write raw bytes
+// to the terminal. Long messages are cut.
+std::string printable(const std::string& s) {
+    std::string out;
+    for (size_t i = 0; i < s.size() && out.size() < 600; ++i) {
+        const unsigned char c = static_cast<unsigned char>(s[i]);
+        if (c >= 0x20 && c < 0x7F) {
+            out += static_cast<char>(c);
+        } else if (const size_t n = c >= 0x80 ? utf8_length(s, i) : 0) {
+            out.append(s, i, n);
+            i += n - 1;
+        } else {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "\\x%02X", c);
+            out += hex;
+        }
+    }
+    if (out.size() >= 600) out += "...";
+    return out;
+}
+
 std::string format(const std::string& file, int line, const std::string& field,
                    const std::string& message) {
-    std::string s = file;
+    std::string s = printable(file);
     if (line > 0) s.append(":").append(std::to_string(line));
     s.append(": ");
-    if (!field.empty()) s.append(field).append(": ");
-    return s.append(message);
+    if (!field.empty()) s.append(printable(field)).append(": ");
+    return s.append(printable(message));
 }
 
 // Levenshtein distance, case-insensitive.

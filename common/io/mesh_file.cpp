@@ -60,6 +60,7 @@ void check_vertex_numbers(const std::string& path) {
         for (std::string token; fields >> token;) {
             char* end = nullptr;
             const double x = std::strtod(token.c_str(), &end);
+            if (token.size() > 40) token = token.substr(0, 40) + "...";
             if (end == token.c_str() || *end != '\0')
                 throw InputError(path, number, keyword, "'" + token + "' is not a number");
             if (!std::isfinite(x) || std::fabs(x) > 1e9)
@@ -75,11 +76,8 @@ namespace {
 
 // Parses the file with tinyobjloader (triangulated, materials from the MTL beside it); its
 // warnings go to stderr, its errors become an InputError.
-void parse_obj(const std::string& path, tinyobj::ObjReader& reader) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "OBJ file not found");
-    if (std::filesystem::is_directory(path, ec))
-        throw InputError(path, 0, "", "is a directory, not an OBJ file");
+void parse_obj(const std::string& path, uint64_t max_bytes, tinyobj::ObjReader& reader) {
+    check_input_file(path, "OBJ file", max_bytes, "--max-file-mb");
     check_vertex_numbers(path);
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
@@ -141,9 +139,9 @@ private:
 
 }  // namespace
 
-MeshData load_obj(const std::string& path) {
+MeshData load_obj(const std::string& path, uint64_t max_bytes) {
     tinyobj::ObjReader reader;
-    parse_obj(path, reader);
+    parse_obj(path, max_bytes, reader);
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     MeshData mesh;
     for (const tinyobj::material_t& m : reader.GetMaterials())

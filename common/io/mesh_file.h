@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/math.h"
+#include "io/input_file.h"
 #include "materials/material.h"
 
 namespace lessons {
@@ -26,6 +27,7 @@ struct MeshData {
 // Loads and triangulates an OBJ file. Vertices are de-duplicated per (position, normal, uv)
 // triple. Non-finite coordinates and out-of-range indices are errors (InputError naming the
 // file and the field); zero-area triangles are skipped and counted.
-MeshData load_obj(const std::string& path);
+// The file must be a regular file of at most max_bytes (input_file.h).
+MeshData load_obj(const std::string& path, uint64_t max_bytes = InputLimits{}.file_bytes());
 
 }  // namespace lessons

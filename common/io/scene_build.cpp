@@ -37,10 +37,11 @@ void add_polygon_mesh(Scene& scene, const ShapeDescription& s, uint32_t material
 }
 
 void add_obj_mesh(Scene& scene, const ShapeDescription& s,
-                  const std::map<std::string, uint32_t>& material_ids, int override_material) {
+                  const std::map<std::string, uint32_t>& material_ids, int override_material,
+                  const InputLimits& limits) {
     MeshData mesh;
     try {
-        mesh = load_obj(s.file);
+        mesh = load_obj(s.file, limits.file_bytes());
     } catch (const InputError& e) {
         // Name both the OBJ problem and the scene line that asked for the file.
         throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
@@ -145,7 +146,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                 if (s.file.empty())
                     add_polygon_mesh(scene, s, static_cast<uint32_t>(material));
                 else
-                    add_obj_mesh(scene, s, material_ids, material);
+                    add_obj_mesh(scene, s, material_ids, material, options.limits);
                 break;
         }
     }

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "io/input_error.h"
+#include "io/input_file.h"
 #include "io/table_reader.h"
 
 namespace lessons {
@@ -332,20 +333,13 @@ SceneDescription parse_scene_string(const std::string& text, const std::string& 
     return parse_table(root, name);
 }
 
-SceneDescription parse_scene_file(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw InputError(path, 0, "", "scene file not found");
-    if (std::filesystem::is_directory(path, ec))
-        throw InputError(path, 0, "", "is a directory, not a scene file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, "", "cannot open the scene file (permissions?)");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_scene_string(text.str(), path);
+SceneDescription parse_scene_file(const std::string& path, const InputLimits& limits) {
+    return parse_scene_string(
+        read_input_file(path, "scene file", limits.scene_bytes(), "--max-scene-mb"), path);
 }
 
 Scene load_scene(const std::string& path, const BuildOptions& options) {
-    return build_scene(parse_scene_file(path), options);
+    return build_scene(parse_scene_file(path, options.limits), options);
 }
 
 }  // namespace lessons

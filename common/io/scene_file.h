@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/math.h"
+#include "io/input_file.h"
 #include "materials/material.h"
 #include "scene/scene.h"
 
@@ -76,11 +77,13 @@ struct SceneDescription {
 std::array<Quad, 6> box_faces(const ShapeDescription& box);
 
 // Stage 1. Throws InputError.
-SceneDescription parse_scene_file(const std::string& path);
+SceneDescription parse_scene_file(const std::string& path, const InputLimits& limits = {});
 SceneDescription parse_scene_string(const std::string& toml_text, const std::string& name);
 
 struct BuildOptions {
+    BuildOptions(int w = 0, int h = 0, InputLimits l = {}) : width(w), height(h), limits(l) {}
     int width = 0, height = 0;  // override the file's image size when > 0
+    InputLimits limits;         // the largest scene and mesh files read
 };
 
 // Stage 2. Throws InputError. Warnings (e.g. skipped degenerate triangles) go to stderr.

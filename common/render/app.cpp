@@ -77,6 +77,14 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "Make every diffuse reflectance (diffuse and glossy materials) this grey, in "
                    "[0, 1]: the furnace demo's ratio of the series L = E + KE + K^2E + ...")
         ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--max-scene-mb", o.limits.scene_mb,
+                   "Largest scene file read, in MiB (a scene is text; meshes are other files)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--max-file-mb", o.limits.file_mb,
+                   "Largest mesh (OBJ) file a scene may name, in MiB")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--clamp", o.clamp,
                    "Clamp each sample's luminance to this value (removes fireflies; biased, and "
                    "the report says so)")
@@ -321,9 +329,7 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
     report.set("height", in.scene.height);
     report.set("spp", run.spp_taken);
     report.set("firefly_pixels", r.firefly_pixels);
-    std::vector<std::string> bias = in.model.biased_because;
-    if (o.clamp > 0.0f) bias.push_back("--clamp: bright samples are scaled down");
-    if (in.scene.naive.any()) bias.push_back("--naive: the naive methods are wrong on purpose");
+    const std::vector<std::string> bias = run_bias(o, in);
     report.set("biased", !bias.empty());
     report.set("bias", bias);
     if (o.clamp > 0.0f) {
@@ -382,7 +388,7 @@ void parse_lesson_arguments(const std::vector<std::string>& args, const Lesson& 
 }
 
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
-    in.scene = load_scene(o.scene, {o.width, o.height});
+    in.scene = load_scene(o.scene, {o.width, o.height, o.limits});
     check_memory(in.scene.width, in.scene.height);
     apply_naive_methods(o.naive, in.scene.naive);
     apply_albedo(o.albedo, in.scene);
@@ -391,6 +397,13 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     if (o.albedo >= 0.0f)
         in.model.notes.push_back("--albedo: every diffuse reflectance is grey " +
                                  std::to_string(o.albedo) + " (the scene's own are ignored)");
+}
+
+std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in) {
+    std::vector<std::string> bias = in.model.biased_because;
+    if (o.clamp > 0.0f) bias.push_back("--clamp: bright samples are scaled down");
+    if (in.scene.naive.any()) bias.push_back("--naive: the naive methods are wrong on purpose");
+    return bias;
 }
 
 RenderSettings render_settings(const CommonOptions& o) {
@@ -418,6 +431,11 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         return 2;
     } catch (const std::filesystem::filesystem_error& e) {
         std::cerr << lesson.name << ": error: --out " << o.out << ": " << e.what() << "\n";
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << lesson.name << ": error: " << o.scene
+                  << ": out of memory while loading the scene and its meshes (is a file far "
+                     "larger than it should be? see --max-file-mb)\n";
         return 2;
     }
     if (!o.quiet) print_run_header(lesson, o, in);

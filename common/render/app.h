@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "io/input_file.h"
 #include "render/progressive.h"
 #include "scene/scene.h"
 
@@ -46,6 +47,7 @@ struct CommonOptions {
     float clamp = 0.0f;              // > 0: clamp sample luminance (biased)
     std::string sampler = "independent";  // or "kronecker" (RenderSettings::kronecker)
     float albedo = -1.0f;  // >= 0: every diffuse reflectance becomes this grey (the furnace demo)
+    InputLimits limits;    // the largest scene file and mesh files read (--max-scene-mb, ...)
 };
 
 // The steps of run_lesson, for every front end that runs lessons (the command line, the studio).
@@ -66,6 +68,9 @@ struct RunInputs {
 // Loads the scene (applying --naive and --albedo), reads the reference and makes the model;
 // throws InputError for bad input.
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in);
+// Why this run's image differs from the rendering equation's however long it renders: the
+// model's reasons, --clamp and --naive (the report's "bias").
+std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in);
 // The render loop's settings for these options (no stop flag, no progress display).
 RenderSettings render_settings(const CommonOptions& o);
 

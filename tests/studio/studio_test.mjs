@@ -140,7 +140,7 @@ try {
     ['pane=7&scene=scenes/cornell_box&lesson=01_ray_casting', /pane/],
   ];
   for (const [query, message] of bad) {
-    const r = await page.request.post(url + 'api/start?' + query, { data: '' });
+    const r = await page.request.post(url + 'api/start?' + query, { data: '', headers: { 'X-Studio': '1' } });
     const body = await r.json().catch(() => ({}));
     check(r.status() === 400 && message.test(body.error || ''), `400 for ${query}: ${body.error}`);
   }
@@ -149,6 +149,8 @@ try {
   await set('#pane1 .options input[data-flag="--max-depth"]', 'deep');
   await page.waitForFunction(() => !document.getElementById('message').hidden, null, { timeout: 10000 });
   check(/--max-depth/.test(await page.textContent('#message')), 'a bad value typed in the page is shown with the CLI\'s message: ' + await page.textContent('#message'));
+  const foreign = await page.request.post(url + 'api/start?scene=scenes/cornell_box&lesson=01_ray_casting', { data: '' });
+  check(foreign.status() === 400 && /X-Studio/.test((await foreign.json()).error), 'a POST without the page\'s header (another site\'s) is refused');
   const alive = await page.request.get(url + 'api/status');
   check(alive.ok(), 'the studio still answers after bad requests');
   await set('#pane1 .options input[data-flag="--max-depth"]', '');

@@ -9,7 +9,10 @@
 //   GET  /api/probe?pane=P&x=X&y=Y&light=K       JSON: what is at a pixel, with units
 //   GET  /api/download?pane=P&format=exr|png     the image as the CLI writes it
 //
-// Every error is a 400 with {"error": message}; the render core is studio.cpp.
+// A bad request is a 400 with {"error": message} (a failure of the studio itself, a 500). POSTs
+// must carry the header "X-Studio: 1", which the page sends and which a page of another site
+// cannot send without the browser asking first (and this server never says yes): another site
+// open in the teacher's browser cannot start renders. The render core is studio.cpp.
 #include <httplib.h>
 #include <malloc.h>
 #include <signal.h>
@@ -31,6 +34,12 @@ namespace {
 
 std::string error_json(const std::string& message) {
     return "{\"error\": " + json_quote(message) + "}";
+}
+
+// POSTs come from the studio's own page (see the top of this file).
+void require_page_header(const httplib::Request& req) {
+    if (req.get_header_value("X-Studio") != "1")
+        throw RequestError("this request must come from the studio's page (header X-Studio: 1)");
 }
 
 // The query's parameters, each once.
@@ -125,6 +134,7 @@ void add_routes(httplib::Server& server, Studio& studio, const std::string& bind
                }));
     server.Post("/api/start",
                 guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+                    require_page_header(req);
                     Params params = params_of(req);
                     const int pane = int_of(params, "pane", 0);
                     const uint64_t generation = studio.start(pane, params);
@@ -133,6 +143,7 @@ void add_routes(httplib::Server& server, Studio& studio, const std::string& bind
                 }));
     server.Post("/api/stop",
                 guarded([&studio](const httplib::Request& req, httplib::Response& res) {
+                    require_page_header(req);
                     studio.stop_pane(int_of(params_of(req), "pane", 0));
                     res.set_content("{}", "application/json");
                 }));
@@ -214,6 +225,10 @@ std::optional<int> read_options(int argc, char** argv, ServerOptions& o) {
         ->capture_default_str();
     app.add_option("--threads", o.limits.threads, "Threads per pass (0: one per core)")
         ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
+    app.add_option("--max-memory-mb", o.limits.memory_mb,
+                   "Largest memory one render's films may take (larger requests are refused)")
+        ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_option("--reference-spp", o.limits.reference_spp,
                    "Samples per pixel of a reference the studio renders itself")

@@ -40,7 +40,8 @@ struct PaneState {
     int target = 0;  // samples per pixel to reach
     int batch = 1;   // samples per pixel of the next pass
     bool done = false;
-    bool busy = false;  // the worker holds its films for a pass
+    bool busy = false;    // the worker holds its films for a pass
+    std::string failure;  // why the render stopped with an error (shown in the status)
     Clock::time_point started = Clock::now();
     std::shared_ptr<const Snapshot> snapshot;
     // The reference the chart measures against (shared with other panes), its file and spp.
@@ -179,9 +180,10 @@ std::optional<FoundReference> read_reference_file(const fs::path& exr, const fs:
 }
 
 std::string cache_stem(const std::string& cache, const SceneEntry& scene, int width, int height,
-                       int spp) {
+                       float albedo, int spp) {
     std::string name = scene.id;
     std::replace(name.begin(), name.end(), '/', '_');
+    if (albedo >= 0.0f) name += "_albedo" + std::to_string(albedo);
     char buf[64];
     std::snprintf(buf, sizeof buf, "_%dx%d_%dspp_%016llx", width, height, spp,
                   static_cast<unsigned long long>(file_hash(scene.path)));
@@ -219,7 +221,7 @@ std::string read_file_bytes(const std::string& path) {
 // reference).
 bool same_image(const PaneState& a, const PaneState& b) {
     return a.scene_id == b.scene_id && a.inputs.scene.width == b.inputs.scene.width &&
-           a.inputs.scene.height == b.inputs.scene.height;
+           a.inputs.scene.height == b.inputs.scene.height && a.options.albedo == b.options.albedo;
 }
 
 // A finished background reference, kept where the studio looks for its references next time.
@@ -417,6 +419,7 @@ uint64_t Studio::start(int pane_index, const Params& params) {
     } catch (const std::bad_alloc&) {
         throw RequestError("scene: out of memory while loading it");
     }
+    check_memory_budget(state->inputs);
     state->films = std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model,
                                                       state->options.clamp);
     state->settings = render_settings(state->options);
@@ -429,13 +432,16 @@ uint64_t Studio::start(int pane_index, const Params& params) {
         if (s.id == state->scene_id) scene = &s;
     const int w = state->inputs.scene.width, h = state->inputs.scene.height;
     // The reference: lessons.sh's for this scene and size, the studio's own, or one to render.
+    // (lessons.sh renders the scenes as they are: no reference of theirs has --albedo.)
+    const float albedo = state->options.albedo;
     std::optional<FoundReference> found;
     const fs::path lessons_dir = fs::path(references_) / fs::path(scene->path).stem();
-    found =
-        read_reference_file(lessons_dir / "reference.exr", lessons_dir / "reference_variance.exr",
-                            w, h, scene->path, "scripts/lessons.sh:");
+    if (albedo < 0.0f)
+        found = read_reference_file(lessons_dir / "reference.exr",
+                                    lessons_dir / "reference_variance.exr", w, h, scene->path,
+                                    "scripts/lessons.sh:");
     if (!found) {
-        const std::string stem = cache_stem(cache_, *scene, w, h, limits_.reference_spp);
+        const std::string stem = cache_stem(cache_, *scene, w, h, albedo, limits_.reference_spp);
         found = read_reference_file(stem + ".exr", stem + "_variance.exr", w, h, scene->path,
                                     "the studio's cache:");
     }
@@ -456,10 +462,13 @@ uint64_t Studio::start(int pane_index, const Params& params) {
             bool wanted = false;
             for (size_t i = 0; i + 1 < panes_.size(); ++i)
                 wanted |= panes_[i] && !panes_[i]->reference && same_image(*panes_[i], *ref);
-            if (!wanted) ref->stop = true;
+            if (!wanted) {
+                ref->stop = true;
+                if (!ref->busy) ref->films.reset();
+            }
         }
     }
-    if (!found) want_reference(scene->id, scene->path, w, h);
+    if (!found) want_reference(scene->id, scene->path, w, h, albedo);
     wake_.notify_all();
     return generation;
 }
@@ -474,12 +483,13 @@ void Studio::stop_pane(int pane_index) {
 }
 
 void Studio::want_reference(const std::string& scene_id, const std::string& scene_path, int width,
-                            int height) {
+                            int height, float albedo) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         const auto& current = panes_.back();
-        if (current && !current->done && current->scene_id == scene_id &&
-            current->inputs.scene.width == width && current->inputs.scene.height == height)
+        if (current && !current->done && !current->stop && current->scene_id == scene_id &&
+            current->inputs.scene.width == width && current->inputs.scene.height == height &&
+            current->options.albedo == albedo)
             return;  // already rendering it
     }
     // The reference is lesson 5's (unbiased for every scene the suite has: it finds point-light
@@ -500,6 +510,10 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
                    std::to_string(limits_.reference_spp),
                    "--seed",
                    "1000003"};
+    if (albedo >= 0.0f) {
+        state->args.push_back("--albedo");
+        state->args.push_back(std::to_string(albedo));
+    }
     state->lesson = registered->make();
     CLI::App app;
     try {
@@ -510,7 +524,8 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
     }
     for (const SceneEntry& s : scenes_)
         if (s.id == scene_id)
-            state->reference_path = cache_stem(cache_, s, width, height, limits_.reference_spp);
+            state->reference_path =
+                cache_stem(cache_, s, width, height, albedo, limits_.reference_spp);
     state->films =
         std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model, 0.0f);
     state->settings = render_settings(state->options);
@@ -558,6 +573,12 @@ std::shared_ptr<Snapshot> Studio::snapshot_of(const PaneState& job,
         }
     }
     snapshot->passes += 1;
+    for (const Color& c : snapshot->result.image.pixels) snapshot->image_luminance += luminance(c);
+    for (const Image& layer : snapshot->result.layers) {
+        double sum = 0.0;
+        for (const Color& c : layer.pixels) sum += luminance(c);
+        snapshot->layer_luminance.push_back(sum);
+    }
     if (reference)
         snapshot->chart.push_back({snapshot->spp, snapshot->result.stats.seconds,
                                    compare_images(snapshot->result.image, *reference)});
@@ -567,48 +588,79 @@ std::shared_ptr<Snapshot> Studio::snapshot_of(const PaneState& job,
 void Studio::worker_loop() {
     std::unique_ptr<ProgressiveFilms> films;
     while (std::shared_ptr<PaneState> job = next_job(films)) {
-        const int end = std::min(job->target, films->samples() + job->batch);
-        const auto t0 = Clock::now();
-        const bool whole = films->render_to(end, job->settings);
-        const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
-        if (!whole) {
-            // Stopped: replaced by a new render (or the studio quits); nothing to publish.
-            films.reset();
+        std::shared_ptr<Snapshot> snapshot;
+        std::string failure;
+        try {
+            snapshot = render_pass(*job, *films);
+        } catch (const std::bad_alloc&) {
+            failure = "out of memory while rendering (a smaller image, or fewer layers)";
+        } catch (const std::exception& e) {
+            failure = e.what();
+        }
+        const bool finished = snapshot && snapshot->spp >= job->target;
+        if (finished && job->is_reference) cache_reference(*job, snapshot->result);
+        {
+            // What becomes of the films is decided once, here: back to the render if it goes
+            // on, else freed (below, outside the lock).
             std::lock_guard<std::mutex> lock(mutex_);
             job->busy = false;
-            continue;
-        }
-        // Passes of about a quarter of a second: the page sees frames often, a restart waits
-        // for at most one pass.
-        if (dt < 0.12 && job->batch < 1024)
-            job->batch *= 2;
-        else if (dt > 0.5 && job->batch > 1)
-            job->batch /= 2;
-        const std::shared_ptr<Snapshot> snapshot = snapshot_of(*job, *films);
-        const bool finished = snapshot->spp >= job->target;
-        if (finished && job->is_reference) cache_reference(*job, snapshot->result);
-        if (finished || job->stop) films.reset();
-
-        std::lock_guard<std::mutex> lock(mutex_);
-        job->busy = false;
-        if (!finished && !job->stop) job->films = std::move(films);
-        if (job->stop) continue;  // restarted during the pass: its frame is not shown
-        snapshot->version = next_version_++;
-        job->snapshot = snapshot;
-        job->done = finished;
-        if (finished && job->is_reference) {
-            // Every pane of this scene and size measures against it from now on.
-            auto image = std::make_shared<const Image>(snapshot->result.image);
-            const double noise = mean_variance(snapshot->result.variance);
-            for (size_t i = 0; i + 1 < panes_.size(); ++i) {
-                PaneState* p = panes_[i].get();
-                if (p && !p->reference && same_image(*p, *job)) {
-                    p->reference = image;
-                    p->reference_noise = noise;
-                    p->reference_source = "rendered by the studio: " + job->reference_path + ".exr";
-                }
+            if (!failure.empty()) {
+                job->failure = failure;
+                job->done = true;
+            } else if (snapshot && !job->stop) {
+                if (!finished) job->films = std::move(films);
+                publish(*job, snapshot, finished);
             }
         }
+        films.reset();
+    }
+}
+
+std::shared_ptr<Snapshot> Studio::render_pass(PaneState& job, ProgressiveFilms& films) {
+    const int end = std::min(job.target, films.samples() + job.batch);
+    const auto t0 = Clock::now();
+    // Stopped (replaced by a new render, or the studio quits): nothing to publish.
+    if (!films.render_to(end, job.settings)) return nullptr;
+    const double dt = std::chrono::duration<double>(Clock::now() - t0).count();
+    // Passes of about a quarter of a second: the page sees frames often, a restart waits for
+    // at most one pass.
+    if (dt < 0.12 && job.batch < 1024)
+        job.batch *= 2;
+    else if (dt > 0.5 && job.batch > 1)
+        job.batch /= 2;
+    return snapshot_of(job, films);
+}
+
+void Studio::publish(PaneState& job, const std::shared_ptr<Snapshot>& snapshot, bool finished) {
+    snapshot->version = next_version_++;
+    job.snapshot = snapshot;
+    job.done = finished;
+    if (!finished || !job.is_reference) return;
+    // Every pane of this scene, size and albedo measures against it from now on.
+    auto image = std::make_shared<const Image>(snapshot->result.image);
+    const double noise = mean_variance(snapshot->result.variance);
+    for (size_t i = 0; i + 1 < panes_.size(); ++i) {
+        PaneState* p = panes_[i].get();
+        if (p && !p->reference && same_image(*p, job)) {
+            p->reference = image;
+            p->reference_noise = noise;
+            p->reference_source = "rendered by the studio: " + job.reference_path + ".exr";
+        }
+    }
+}
+
+void Studio::check_memory_budget(const RunInputs& in) const {
+    // Per pixel and film (the image and each layer): the film's sums (Film::Pixel, 80 bytes),
+    // and the snapshot's mean and variance images, twice (the one shown, the one being made).
+    const double films = 1.0 + static_cast<double>(in.model.layer_names.size());
+    const double bytes = films * in.scene.width * in.scene.height * (80.0 + 2.0 * 24.0);
+    if (bytes > limits_.memory_mb * 1048576.0) {
+        char msg[240];
+        std::snprintf(msg, sizeof msg,
+                      "this render needs about %.0f MiB (%g films of %dx%d), more than the "
+                      "studio's --max-memory-mb %.0f: a smaller image, or fewer layers",
+                      bytes / 1048576.0, films, in.scene.width, in.scene.height, limits_.memory_mb);
+        throw RequestError(msg);
     }
 }
 
@@ -620,89 +672,104 @@ int Studio::live_renders() const {
     return n;
 }
 
-std::string Studio::status_json() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    std::string s = "{\"panes\": [";
-    for (size_t i = 0; i < panes_.size(); ++i) {
-        const auto& p = panes_[i];
-        const bool is_ref = i + 1 == panes_.size();
-        if (is_ref)
-            s += "], \"reference\": ";
-        else if (i)
-            s += ", ";
-        if (!p) {
-            s += is_ref ? "null" : "{\"state\": \"idle\"}";
-            continue;
+namespace {
+
+// What the status says of one render: copied under the studio's lock, written out after it.
+struct PaneView {
+    std::shared_ptr<const PaneState> pane;  // its fixed parts: command line, scene, model
+    std::shared_ptr<const Snapshot> snapshot;
+    std::string state, failure, reference_source;
+    bool has_reference = false;
+    double reference_noise = 0.0;
+};
+
+std::string pane_json(const PaneView& v, bool is_reference) {
+    const PaneState& p = *v.pane;
+    const Snapshot* snap = v.snapshot.get();
+    std::string command = "build/bin/" + p.args[0];
+    for (size_t k = 1; k < p.args.size(); ++k) command += " " + p.args[k];
+    std::string s = "{\"state\": \"" + v.state + "\"";
+    if (!v.failure.empty()) s += ", \"error\": " + json_quote(v.failure);
+    s += ", \"generation\": " + std::to_string(p.generation);
+    s += ", \"scene\": " + json_quote(p.scene_id);
+    s += ", \"lesson\": " + json_quote(p.args[0]);
+    s += ", \"command\": " + json_quote(command);
+    s += ", \"params\": {";
+    for (auto it = p.params.begin(); it != p.params.end(); ++it)
+        s += std::string(it == p.params.begin() ? "" : ", ") + json_quote(it->first) + ": " +
+             json_quote(it->second);
+    s += "}, \"width\": " + std::to_string(p.inputs.scene.width);
+    s += ", \"height\": " + std::to_string(p.inputs.scene.height);
+    s += ", \"target_spp\": " + std::to_string(p.target);
+    s += ", \"version\": " + std::to_string(snap ? snap->version : 0);
+    s += ", \"spp\": " + std::to_string(snap ? snap->spp : 0);
+    s += ", \"passes\": " + std::to_string(snap ? snap->passes : 0);
+    if (snap) {
+        const RenderStats& st = snap->result.stats;
+        const double n = static_cast<double>(std::max<size_t>(1, snap->result.image.pixels.size()));
+        s += ", \"seconds\": " + json_number(st.seconds);
+        s += ", \"wall_seconds\": " + json_number(snap->wall_seconds);
+        s += ", \"rays\": " + std::to_string(st.rays);
+        s += ", \"mrays_per_second\": " +
+             json_number(st.seconds > 0 ? st.rays / st.seconds * 1e-6 : 0.0);
+        s += ", \"nan_samples\": " + std::to_string(snap->result.nan_samples);
+        s += ", \"inf_samples\": " + std::to_string(snap->result.inf_samples);
+        s += ", \"mean_luminance\": " + json_number(snap->image_luminance / n);
+        // Each layer's share of the image's luminance (lesson 4's bounces: the series).
+        s += ", \"layers\": [";
+        for (size_t k = 0; k < snap->layer_luminance.size(); ++k) {
+            const double sum = snap->layer_luminance[k], total = snap->image_luminance;
+            s += std::string(k ? ", " : "") +
+                 "{\"name\": " + json_quote(p.inputs.model.layer_names[k]) +
+                 ", \"share\": " + json_number(total > 0 ? sum / total : 0.0) +
+                 ", \"mean\": " + json_number(sum / n) + "}";
         }
-        const Snapshot* snap = p->snapshot.get();
-        const char* state = p->done ? "done" : p->stop ? "stopped" : "rendering";
-        std::string command = "build/bin/" + p->args[0];
-        for (size_t k = 1; k < p->args.size(); ++k) command += " " + p->args[k];
-        s += "{\"state\": \"" + std::string(state) + "\"";
-        s += ", \"generation\": " + std::to_string(p->generation);
-        s += ", \"scene\": " + json_quote(p->scene_id);
-        s += ", \"lesson\": " + json_quote(p->args[0]);
-        s += ", \"command\": " + json_quote(command);
-        s += ", \"params\": {";
-        for (auto it = p->params.begin(); it != p->params.end(); ++it)
-            s += std::string(it == p->params.begin() ? "" : ", ") + json_quote(it->first) + ": " +
-                 json_quote(it->second);
-        s += "}";
-        s += ", \"width\": " + std::to_string(p->inputs.scene.width);
-        s += ", \"height\": " + std::to_string(p->inputs.scene.height);
-        s += ", \"target_spp\": " + std::to_string(p->target);
-        s += ", \"version\": " + std::to_string(snap ? snap->version : 0);
-        s += ", \"spp\": " + std::to_string(snap ? snap->spp : 0);
-        s += ", \"passes\": " + std::to_string(snap ? snap->passes : 0);
-        if (snap) {
-            const RenderStats& st = snap->result.stats;
-            s += ", \"seconds\": " + json_number(st.seconds);
-            s += ", \"wall_seconds\": " + json_number(snap->wall_seconds);
-            s += ", \"rays\": " + std::to_string(st.rays);
-            s += ", \"mrays_per_second\": " +
-                 json_number(st.seconds > 0 ? st.rays / st.seconds * 1e-6 : 0.0);
-            s += ", \"nan_samples\": " + std::to_string(snap->result.nan_samples);
-            s += ", \"inf_samples\": " + std::to_string(snap->result.inf_samples);
-            // Each layer's share of the image's luminance (lesson 4's bounces: the series).
-            double total = 0.0;
-            for (const Color& c : snap->result.image.pixels) total += luminance(c);
-            s += ", \"layers\": [";
-            for (size_t k = 0; k < snap->result.layers.size(); ++k) {
-                double sum = 0.0;
-                for (const Color& c : snap->result.layers[k].pixels) sum += luminance(c);
-                const double n = static_cast<double>(snap->result.image.pixels.size());
-                s += std::string(k ? ", " : "") +
-                     "{\"name\": " + json_quote(p->inputs.model.layer_names[k]) +
-                     ", \"share\": " + json_number(total > 0 ? sum / total : 0.0) +
-                     ", \"mean\": " + json_number(n > 0 ? sum / n : 0.0) + "}";
-            }
-            s += "], \"chart\": [";
-            for (size_t k = 0; k < snap->chart.size(); ++k)
-                s += std::string(k ? ", " : "") + "[" + std::to_string(snap->chart[k].spp) + ", " +
-                     json_number(snap->chart[k].seconds) + ", " +
-                     json_number(snap->chart[k].error.mse) + "]";
-            s += "]";
-            double mean = 0.0;
-            for (const Color& c : snap->result.image.pixels) mean += luminance(c);
-            s += ", \"mean_luminance\": " +
-                 json_number(snap->result.image.pixels.empty()
-                                 ? 0.0
-                                 : mean / static_cast<double>(snap->result.image.pixels.size()));
-        }
-        s += ", \"notes\": " + json_strings(p->inputs.model.notes);
-        s += ", \"bias\": " + json_strings(p->inputs.model.biased_because);
-        if (!is_ref) {
-            s += ", \"reference\": " + (p->reference ? json_quote(p->reference_source) : "null");
-            s += ", \"reference_noise\": " + json_number(p->reference_noise);
-        }
-        s += "}";
+        s += "], \"chart\": [";
+        for (size_t k = 0; k < snap->chart.size(); ++k)
+            s += std::string(k ? ", " : "") + "[" + std::to_string(snap->chart[k].spp) + ", " +
+                 json_number(snap->chart[k].seconds) + ", " +
+                 json_number(snap->chart[k].error.mse) + "]";
+        s += "]";
     }
-    s += ", \"live_renders\": ";
-    int n = 0;
-    for (const auto& p : panes_)
-        if (p && (p->films || p->busy) && !p->done && !p->stop) ++n;
-    s += std::to_string(n) + "}";
-    return s;
+    s += ", \"notes\": " + json_strings(p.inputs.model.notes);
+    s += ", \"bias\": " + json_strings(run_bias(p.options, p.inputs));
+    if (!is_reference) {
+        s += ", \"reference\": " + (v.has_reference ? json_quote(v.reference_source) : "null");
+        s += ", \"reference_noise\": " + json_number(v.reference_noise);
+    }
+    return s + "}";
+}
+
+}  // namespace
+
+std::string Studio::status_json() const {
+    std::vector<PaneView> views(panes_.size());
+    int live = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (size_t i = 0; i < panes_.size(); ++i) {
+            const std::shared_ptr<PaneState>& p = panes_[i];
+            if (!p) continue;
+            PaneView& v = views[i];
+            v.pane = p;
+            v.snapshot = p->snapshot;
+            v.state = !p->failure.empty() ? "error"
+                      : p->done           ? "done"
+                      : p->stop           ? "stopped"
+                                          : "rendering";
+            v.failure = p->failure;
+            v.has_reference = p->reference != nullptr;
+            v.reference_source = p->reference_source;
+            v.reference_noise = p->reference_noise;
+            if ((p->films || p->busy) && !p->done && !p->stop) ++live;
+        }
+    }
+    std::string s = "{\"panes\": [";
+    for (size_t i = 0; i + 1 < views.size(); ++i)
+        s += std::string(i ? ", " : "") +
+             (views[i].pane ? pane_json(views[i], false) : "{\"state\": \"idle\"}");
+    s += "], \"reference\": " + (views.back().pane ? pane_json(views.back(), true) : "null");
+    return s + ", \"live_renders\": " + std::to_string(live) + "}";
 }
 
 std::string Studio::frame_png(int pane_index, const std::string& view, float exposure) const {

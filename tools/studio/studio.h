@@ -39,6 +39,7 @@ struct Limits {
     int max_spp = 1 << 16;  // a pane stops at this many samples per pixel
     int threads = 0;        // per pass; 0: one per core
     int reference_spp = 1024;
+    double memory_mb = 4096.0;  // the films and snapshots of one render at most this
 };
 
 struct SceneEntry {
@@ -74,6 +75,8 @@ struct Snapshot {
     RenderResult result;
     std::vector<Checkpoint> chart;  // error after each pass, against the reference
     double wall_seconds = 0.0;      // since the render started, including waiting for its turn
+    double image_luminance = 0.0;   // summed over the pixels (for the layers' shares)
+    std::vector<double> layer_luminance;
 };
 
 struct PaneState;
@@ -128,12 +131,18 @@ private:
     void worker_loop();
     // Waits for a render with work (in turn) and hands its films to the worker; null on quit.
     std::shared_ptr<PaneState> next_job(std::unique_ptr<ProgressiveFilms>& films);
+    // One pass of the job's render; null if it was stopped. Adapts the pass's size.
+    std::shared_ptr<Snapshot> render_pass(PaneState& job, ProgressiveFilms& films);
+    // Makes the snapshot the job's (under the lock); a finished reference goes to its panes.
+    void publish(PaneState& job, const std::shared_ptr<Snapshot>& snapshot, bool finished);
     // What a render shows after a pass: its result and its error chart, one point longer.
     std::shared_ptr<Snapshot> snapshot_of(const PaneState& job,
                                           const ProgressiveFilms& films) const;
     std::shared_ptr<PaneState> pane(int index) const;
     void want_reference(const std::string& scene_id, const std::string& scene_path, int width,
-                        int height);
+                        int height, float albedo);
+    // Refuses a render whose films and snapshots would not fit in Limits::memory_mb.
+    void check_memory_budget(const RunInputs& inputs) const;
 
     std::vector<SceneEntry> scenes_;
     std::vector<LessonInfo> lessons_;

@@ -106,7 +106,7 @@ function restartAll() { studio.panes.forEach((_, i) => restart(i)); }
 async function startPane(i) {
   const query = new URLSearchParams(paramsOf(i));
   try {
-    await api('/api/start?' + query.toString(), { method: 'POST', body: '' });
+    await api('/api/start?' + query.toString(), { method: 'POST', body: '', headers: { 'X-Studio': '1' } });
     studio.starts += 1;
     showMessage('');
   } catch (e) {
@@ -148,6 +148,7 @@ function fmt(x, digits = 3) {
 function updatePane(i, s) {
   const pane = studio.panes[i];
   if (!s || s.state === 'idle') { pane.status.textContent = 'idle'; return; }
+  if (s.state === 'error') showMessage(`Pane ${i + 1}: the render failed: ${s.error}`);
   updateViews(pane, s);
   pane.status.textContent =
     `${s.state} · passes ${s.passes} · ${s.spp} / ${s.target_spp} spp · ` +

@@ -1,0 +1,27 @@
+// Reading the files a scene names (the scene file itself, meshes, textures), defensively: only
+// regular files (never a device, a FIFO or a socket, which could be endless: /dev/zero), never
+// more than a cap (a scene file is text of a few kilobytes; a mesh may be large, but not larger
+// than the user allows), each refusal an InputError naming the file.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace lessons {
+
+struct InputLimits {
+    double scene_mb = 16.0;   // a scene file (TOML), in MiB (--max-scene-mb)
+    double file_mb = 4096.0;  // a mesh or image file it names, in MiB (--max-file-mb)
+    uint64_t scene_bytes() const { return static_cast<uint64_t>(scene_mb * 1048576.0); }
+    uint64_t file_bytes() const { return static_cast<uint64_t>(file_mb * 1048576.0); }
+};
+
+// Checks that `path` is a regular file of at most `max_bytes`; `what` names it in messages
+// ("scene file", "OBJ file") and `flag` the option that raises the cap. Returns its size.
+uint64_t check_input_file(const std::string& path, const std::string& what, uint64_t max_bytes,
+                          const std::string& flag);
+// The same, then the whole file's bytes.
+std::string read_input_file(const std::string& path, const std::string& what, uint64_t max_bytes,
+                            const std::string& flag);
+
+}  // namespace lessons
