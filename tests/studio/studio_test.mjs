@@ -67,7 +67,7 @@ try {
   // ---- a scene and two lessons: frames change as samples accumulate ----
   await set('#width', '48');
   await set('#height', '36');
-  await set('#spp', '4096');
+  await set('#spp', '1000000');
   await set('#scene', 'scenes/cornell_box');
   await set('#pane0 .lesson', '04_rendering_equation');
   await set('#pane1 .lesson', '03_reflection_equation');
@@ -156,8 +156,8 @@ try {
   await set('#pane1 .options input[data-flag="--max-depth"]', '');
 
   // ---- 20 reloads: renders do not pile up, memory stays flat ----
-  await set('#spp', '4096');
-  await waitFor('long renders running again', (x) => x.panes.every((p) => p.params['--spp'] === '4096' && p.state === 'rendering'));
+  await set('#spp', '1000000');
+  await waitFor('long renders running again', (x) => x.panes.every((p) => p.params['--spp'] === '1000000' && p.state === 'rendering'));
   await sleep(1000);
   const before = rss();
   const generations = (await status()).panes.map((p) => p.generation).join();
