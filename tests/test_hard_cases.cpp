@@ -64,7 +64,7 @@ double image_mean(const Image& image) {
 
 // 1. Watertight ray/triangle intersection (Woop, Benthin, Wald, JCGT 2013).
 TEST(HardCases, RaysAtSharedEdgesAndVerticesOfClosedMeshesNeverEscape) {
-    for (const char* name : {"watertight_sphere", "watertight_box"}) {
+    for (const char* name : {"watertight_sphere", "watertight_box", "watertight_mirrored"}) {
         Scene scene = load_scene(kScenes + "hard/" + name + ".toml");
         const int origins = std::string(name) == "watertight_box" ? 600 : 120;
         int rays = 0;
@@ -77,6 +77,21 @@ TEST(HardCases, RaysAtSharedEdgesAndVerticesOfClosedMeshesNeverEscape) {
         EXPECT_GE(rays, 1000000);
         EXPECT_EQ(ours, 0);
         EXPECT_GT(naive, 0);
+    }
+}
+
+// A mirroring transform keeps a closed mesh's faces facing out (the loader reverses the
+// windings it mirrors), and its shading normals with them.
+TEST(HardCases, AMirroredClosedMeshStillFacesOut) {
+    for (const char* name : {"watertight_sphere", "watertight_mirrored"}) {
+        const Scene scene = load_scene(kScenes + "hard/" + name + ".toml");
+        int outward = 0;
+        for (const Triangle& t : scene.triangles()) {
+            const Vec3 &a = scene.positions()[t.v[0]], &b = scene.positions()[t.v[1]],
+                       &c = scene.positions()[t.v[2]];
+            outward += glm::dot(glm::cross(b - a, c - a), a + b + c) > 0.0f;
+        }
+        EXPECT_EQ(outward, static_cast<int>(scene.triangles().size())) << name;
     }
 }
 

@@ -11,6 +11,28 @@ namespace lessons {
 
 namespace {
 
+// A mesh placed by its shape's transform: positions in double, rounded once; normals by the
+// inverse transpose. A mirroring transform reverses every triangle's winding (v1 <-> v2), so
+// that front faces stay on the side the mirror image puts them and closed meshes stay outward.
+void place_mesh(const ShapeDescription& s, std::vector<Vec3>& positions, std::vector<Vec3>& normals,
+                std::vector<Triangle>& triangles) {
+    const Transform& t = s.transform;
+    if (t.is_identity()) return;
+    for (Vec3& p : positions) {
+        const glm::dvec3 q = t.point(glm::dvec3(p));
+        if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
+            throw InputError(s.transform_where.file, s.transform_where.line,
+                             s.transform_where.field,
+                             "moves the mesh too far for single precision geometry (|x| must be "
+                             "at most 1e9)");
+        p = Vec3(q);
+    }
+    for (Vec3& n : normals)
+        if (n != Vec3(0.0f)) n = Vec3(t.normal(glm::dvec3(n)));
+    if (t.mirrors())
+        for (Triangle& tri : triangles) std::swap(tri.v[1], tri.v[2]);
+}
+
 void add_polygon_mesh(Scene& scene, const ShapeDescription& s, uint32_t material) {
     std::vector<Triangle> triangles;
     int degenerate = 0;
@@ -33,22 +55,30 @@ void add_polygon_mesh(Scene& scene, const ShapeDescription& s, uint32_t material
     if (triangles.empty())
         throw InputError(s.where.file, s.where.line, s.where.field + ".faces",
                          "every face has zero area");
-    scene.add_mesh(s.vertices, {}, {}, triangles);
+    std::vector<Vec3> positions = s.vertices, normals;
+    place_mesh(s, positions, normals, triangles);
+    scene.add_mesh(positions, {}, {}, triangles);
 }
+
+// OBJ files read so far in this build, by path: a mesh placed several times is read once.
+using MeshCache = std::map<std::string, MeshData>;
 
 void add_obj_mesh(Scene& scene, const ShapeDescription& s,
                   const std::map<std::string, uint32_t>& material_ids, int override_material,
-                  const InputLimits& limits) {
-    MeshData mesh;
-    try {
-        mesh = load_obj(s.file, limits.file_bytes());
-    } catch (const InputError& e) {
-        // Name both the OBJ problem and the scene line that asked for the file.
-        throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
+                  const InputLimits& limits, MeshCache& cache) {
+    auto cached = cache.find(s.file);
+    if (cached == cache.end()) {
+        try {
+            cached = cache.emplace(s.file, load_obj(s.file, limits.file_bytes())).first;
+        } catch (const InputError& e) {
+            // Name both the OBJ problem and the scene line that asked for the file.
+            throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
+        }
+        if (cached->second.skipped_degenerate > 0)
+            std::cerr << "warning: " << s.file << ": skipped "
+                      << cached->second.skipped_degenerate << " zero-area triangle(s)\n";
     }
-    if (mesh.skipped_degenerate > 0)
-        std::cerr << "warning: " << s.file << ": skipped " << mesh.skipped_degenerate
-                  << " zero-area triangle(s)\n";
+    const MeshData& mesh = cached->second;
     // MTL materials: a scene material of the same name wins; otherwise the MTL's own values.
     std::vector<uint32_t> mtl_to_scene(mesh.materials.size());
     for (size_t i = 0; i < mesh.materials.size(); ++i) {
@@ -72,26 +102,28 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
         }
         triangles.push_back({{f.v[0], f.v[1], f.v[2]}, material, true});
     }
-    scene.add_mesh(mesh.positions, mesh.normals, mesh.uvs, triangles);
+    if (s.transform.is_identity()) {
+        scene.add_mesh(mesh.positions, mesh.normals, mesh.uvs, triangles);
+        return;
+    }
+    std::vector<Vec3> positions = mesh.positions, normals = mesh.normals;
+    place_mesh(s, positions, normals, triangles);
+    scene.add_mesh(positions, normals, mesh.uvs, triangles);
 }
 
 }  // namespace
 
 std::array<Quad, 6> box_faces(const ShapeDescription& b) {
-    // The rotation about y by t: x' = cos t x + sin t z, z' = -sin t x + cos t z (right-handed,
-    // turning +z towards +x); its determinant is 1, so outward faces stay outward.
-    const double t = b.rotate_y * (3.14159265358979323846 / 180.0);
-    const double c = std::cos(t), s = std::sin(t);
-    auto rotate = [&](const glm::dvec3& p) {
-        return glm::dvec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
-    };
+    const Transform& m = b.transform;
     const glm::dvec3 size = b.box_max - b.box_min;
-    const glm::dvec3 dx = rotate({size.x, 0.0, 0.0}), dy = rotate({0.0, size.y, 0.0}),
-                     dz = rotate({0.0, 0.0, size.z});
-    const glm::dvec3 lo = rotate(b.box_min) + b.translate;  // the corner at box_min
-    // Each face: corner, edge_u, edge_v with cross(edge_u, edge_v) pointing out of the box.
-    auto face = [](const glm::dvec3& corner, const glm::dvec3& u, const glm::dvec3& v) {
-        return Quad(Vec3(corner), Vec3(u), Vec3(v));
+    const glm::dvec3 dx = m.vector({size.x, 0.0, 0.0}), dy = m.vector({0.0, size.y, 0.0}),
+                     dz = m.vector({0.0, 0.0, size.z});
+    const glm::dvec3 lo = m.point(b.box_min);  // the corner at box_min
+    // Each face: corner, edge_u, edge_v with cross(edge_u, edge_v) pointing out of the box (a
+    // mirroring transform reverses the cross product: then the edges swap).
+    const bool mirrors = m.mirrors();
+    auto face = [mirrors](const glm::dvec3& corner, const glm::dvec3& u, const glm::dvec3& v) {
+        return mirrors ? Quad(Vec3(corner), Vec3(v), Vec3(u)) : Quad(Vec3(corner), Vec3(u), Vec3(v));
     };
     return {
         face(lo, dz, dy),       // x = min.x, normal -x: cross(z, y) = -x
@@ -129,6 +161,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                          message);
     };
 
+    MeshCache meshes;
     for (const ShapeDescription& s : d.shapes) {
         const int material = resolve(s);
         switch (s.type) {
@@ -146,7 +179,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                 if (s.file.empty())
                     add_polygon_mesh(scene, s, static_cast<uint32_t>(material));
                 else
-                    add_obj_mesh(scene, s, material_ids, material, options.limits);
+                    add_obj_mesh(scene, s, material_ids, material, options.limits, meshes);
                 break;
         }
     }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/math.h"
+#include "geometry/transform.h"
 #include "io/input_file.h"
 #include "materials/material.h"
 #include "scene/scene.h"
@@ -41,10 +42,13 @@ struct ShapeDescription {
     float radius = 1.0f;
     // quad
     Vec3 corner{0.0f}, edge_u{0.0f}, edge_v{0.0f};
-    // box: the axis-aligned box [box_min, box_max], turned about the y axis by rotate_y degrees,
-    // then moved by translate. Kept in double, as written in the file, until box_faces.
-    glm::dvec3 box_min{0.0}, box_max{1.0}, translate{0.0};
-    double rotate_y = 0.0;
+    // box: the axis-aligned box [box_min, box_max], placed by `transform` (its rotate_y and
+    // translate fields are a case of it). Kept in double, as written in the file, until box_faces.
+    glm::dvec3 box_min{0.0}, box_max{1.0};
+    // Where the shape goes (docs/scene-format.md, "Transforms"): applied to spheres and quads
+    // when the file is read, to boxes and meshes when the scene is built.
+    Transform transform;
+    SourceLocation transform_where;
     // mesh: either a file, or inline vertices and polygonal faces
     std::string file;  // resolved relative to the scene file's folder
     SourceLocation file_where;
@@ -71,9 +75,8 @@ struct SceneDescription {
 };
 
 // A box shape as its six faces, each a quad whose front side, cross(edge_u, edge_v), faces out
-// of the box. With t = rotate_y, a point p of [box_min, box_max] goes to
-//   (cos t p.x + sin t p.z,  p.y,  -sin t p.x + cos t p.z) + translate,
-// computed in double; each corner and edge is rounded to single precision once.
+// of the box: the faces of [box_min, box_max] placed by the box's transform, computed in double;
+// each corner and edge is rounded to single precision once.
 std::array<Quad, 6> box_faces(const ShapeDescription& box);
 
 // Stage 1. Throws InputError.
