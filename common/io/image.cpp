@@ -6,12 +6,14 @@
 #include <tinyexr.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 namespace lessons {
@@ -95,17 +97,26 @@ void write_png_bytes(const std::string& path, int width, int height,
 }
 
 Image read_image(const std::string& path) {
-    const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
-    if (ext != ".png" && ext != ".PNG") return read_exr(path);
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") return read_exr(path);
+    // 8- or 16-bit sRGB-encoded: decoded to linear by the standard curve.
     int w = 0, h = 0, channels = 0;
-    unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
+    const bool sixteen = stbi_is_16_bit(path.c_str());
+    void* data = sixteen ? static_cast<void*>(stbi_load_16(path.c_str(), &w, &h, &channels, 3))
+                         : static_cast<void*>(stbi_load(path.c_str(), &w, &h, &channels, 3));
     if (!data) {
         const char* why = stbi_failure_reason();
-        throw std::runtime_error(path + ": cannot read PNG" + (why ? std::string(": ") + why : ""));
+        throw std::runtime_error(path + ": cannot read the image" +
+                                 (why ? std::string(": ") + why : ""));
     }
     Image image(w, h);
     for (size_t i = 0; i < image.pixels.size(); ++i)
-        for (int c = 0; c < 3; ++c) image.pixels[i][c] = srgb_decode(data[3 * i + c] / 255.0f);
+        for (int c = 0; c < 3; ++c)
+            image.pixels[i][c] =
+                sixteen ? srgb_decode(static_cast<const uint16_t*>(data)[3 * i + c] / 65535.0f)
+                        : srgb_decode(static_cast<const uint8_t*>(data)[3 * i + c] / 255.0f);
     stbi_image_free(data);
     return image;
 }

@@ -27,7 +27,7 @@ Color clamp_unit(const float c[3]) {
     return glm::clamp(Color(c[0], c[1], c[2]), Color(0.0f), Color(1.0f));
 }
 
-Material from_mtl(const tinyobj::material_t& mtl) {
+Material from_mtl(const tinyobj::material_t& mtl, const std::string& folder) {
     Material m;
     m.name = mtl.name;
     m.emission = glm::max(Color(mtl.emission[0], mtl.emission[1], mtl.emission[2]), Color(0.0f));
@@ -42,6 +42,13 @@ Material from_mtl(const tinyobj::material_t& mtl) {
     } else {
         m.type = MaterialType::Diffuse;
         m.albedo.value = clamp_unit(mtl.diffuse);
+        // map_Kd: the image replaces Kd (read when the scene is built, from the OBJ's folder).
+        if (!mtl.diffuse_texname.empty()) {
+            const std::filesystem::path tex = mtl.diffuse_texname;
+            m.albedo.image_file = (tex.is_absolute() ? tex : std::filesystem::path(folder) / tex)
+                                      .lexically_normal()
+                                      .string();
+        }
     }
     return m;
 }
@@ -145,7 +152,7 @@ MeshData load_obj(const std::string& path, uint64_t max_bytes) {
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     MeshData mesh;
     for (const tinyobj::material_t& m : reader.GetMaterials())
-        mesh.materials.push_back(from_mtl(m));
+        mesh.materials.push_back(from_mtl(m, std::filesystem::path(path).parent_path().string()));
     for (size_t i = 0; i < attrib.vertices.size(); ++i)
         if (!std::isfinite(attrib.vertices[i]))
             throw InputError(

@@ -6,10 +6,34 @@
 #include "io/input_error.h"
 #include "io/mesh_file.h"
 #include "io/scene_file.h"
+#include "io/texture.h"
 
 namespace lessons {
 
 namespace {
+
+// Reads the image a material's albedo names (once per file), and checks what needed its texels:
+// a glossy material's albedo + specular at most 1.
+void read_albedo_texture(Material& m, const SourceLocation& where, const InputLimits& limits,
+                         TextureCache& textures) {
+    if (m.albedo.image_file.empty() || m.albedo.image) return;
+    auto it = textures.find(m.albedo.image_file);
+    if (it == textures.end()) {
+        try {
+            it = textures
+                     .emplace(m.albedo.image_file,
+                              read_texture(m.albedo.image_file, limits.file_bytes()))
+                     .first;
+        } catch (const InputError& e) {
+            throw InputError(where.file, where.line, where.field, e.what());
+        }
+    }
+    m.albedo.image = it->second;
+    if (m.type == MaterialType::Glossy && max_component(m.albedo.maximum() + m.specular) > 1.0f)
+        throw InputError(where.file, where.line, where.field,
+                         "albedo (its brightest texel) + specular must be at most 1 in every "
+                         "channel; lower specular");
+}
 
 // A mesh placed by its shape's transform: positions in double, rounded once; normals by the
 // inverse transpose. A mirroring transform reverses every triangle's winding (v1 <-> v2), so
@@ -65,7 +89,7 @@ using MeshCache = std::map<std::string, MeshData>;
 
 void add_obj_mesh(Scene& scene, const ShapeDescription& s,
                   const std::map<std::string, uint32_t>& material_ids, int override_material,
-                  const InputLimits& limits, MeshCache& cache) {
+                  const InputLimits& limits, MeshCache& cache, TextureCache& textures) {
     auto cached = cache.find(s.file);
     if (cached == cache.end()) {
         try {
@@ -75,16 +99,21 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
             throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
         }
         if (cached->second.skipped_degenerate > 0)
-            std::cerr << "warning: " << s.file << ": skipped "
-                      << cached->second.skipped_degenerate << " zero-area triangle(s)\n";
+            std::cerr << "warning: " << s.file << ": skipped " << cached->second.skipped_degenerate
+                      << " zero-area triangle(s)\n";
     }
     const MeshData& mesh = cached->second;
     // MTL materials: a scene material of the same name wins; otherwise the MTL's own values.
     std::vector<uint32_t> mtl_to_scene(mesh.materials.size());
     for (size_t i = 0; i < mesh.materials.size(); ++i) {
         auto it = material_ids.find(mesh.materials[i].name);
-        mtl_to_scene[i] =
-            it != material_ids.end() ? it->second : scene.add_material(mesh.materials[i]);
+        if (it != material_ids.end()) {
+            mtl_to_scene[i] = it->second;
+            continue;
+        }
+        Material m = mesh.materials[i];  // its map_Kd, if any, is read here
+        read_albedo_texture(m, s.file_where, limits, textures);
+        mtl_to_scene[i] = scene.add_material(m);
     }
     std::vector<Triangle> triangles;
     triangles.reserve(mesh.faces.size());
@@ -123,7 +152,8 @@ std::array<Quad, 6> box_faces(const ShapeDescription& b) {
     // mirroring transform reverses the cross product: then the edges swap).
     const bool mirrors = m.mirrors();
     auto face = [mirrors](const glm::dvec3& corner, const glm::dvec3& u, const glm::dvec3& v) {
-        return mirrors ? Quad(Vec3(corner), Vec3(v), Vec3(u)) : Quad(Vec3(corner), Vec3(u), Vec3(v));
+        return mirrors ? Quad(Vec3(corner), Vec3(v), Vec3(u))
+                       : Quad(Vec3(corner), Vec3(u), Vec3(v));
     };
     return {
         face(lo, dz, dy),       // x = min.x, normal -x: cross(z, y) = -x
@@ -146,8 +176,11 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
 
     std::map<std::string, uint32_t> material_ids;
     std::vector<std::string> material_names;
+    TextureCache textures;
     for (const MaterialDescription& m : d.materials) {
-        material_ids[m.material.name] = scene.add_material(m.material);
+        Material material = m.material;
+        read_albedo_texture(material, m.albedo_where, options.limits, textures);
+        material_ids[m.material.name] = scene.add_material(material);
         material_names.push_back(m.material.name);
     }
     auto resolve = [&](const ShapeDescription& s) -> int {
@@ -179,7 +212,8 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                 if (s.file.empty())
                     add_polygon_mesh(scene, s, static_cast<uint32_t>(material));
                 else
-                    add_obj_mesh(scene, s, material_ids, material, options.limits, meshes);
+                    add_obj_mesh(scene, s, material_ids, material, options.limits, meshes,
+                                 textures);
                 break;
         }
     }

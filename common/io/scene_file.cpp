@@ -20,6 +20,43 @@ using scene_file::TableReader;
 
 namespace {
 
+// albedo = { texture = "FILE", wrap = "repeat" | "clamp", scale = s | [su, sv] }: the file
+// resolved against the scene file's folder, read when the scene is built.
+ColorTexture parse_texture(TableReader& t, const std::string& scene_file) {
+    ColorTexture tex;
+    const std::filesystem::path rel = t.string("texture");
+    if (rel.empty()) t.fail("texture", "must name an image file (PNG, JPEG or EXR)");
+    tex.image_file =
+        (rel.is_absolute() ? rel : std::filesystem::path(scene_file).parent_path() / rel)
+            .lexically_normal()
+            .string();
+    if (t.has("wrap")) {
+        const std::string wrap = t.string("wrap");
+        if (wrap != "repeat" && wrap != "clamp")
+            t.fail("wrap",
+                   "must be \"repeat\" (tile the image) or \"clamp\" (extend its edges), "
+                   "got '" +
+                       wrap + "'");
+        tex.repeat = wrap == "repeat";
+    }
+    if (t.has("scale")) {
+        if (t.require("scale").is_number()) {
+            tex.scale = Vec2(static_cast<float>(t.number_in("scale", 0.0, 1e6, true, false)));
+        } else {
+            const toml::array& a = t.array("scale");
+            if (a.size() != 2 || !a.get(0)->is_number() || !a.get(1)->is_number())
+                t.fail("scale", "expected a number or [su, sv]");
+            for (int i = 0; i < 2; ++i) {
+                const double v = as_number(*a.get(static_cast<size_t>(i)));
+                if (!(v > 0.0 && v <= 1e6)) t.fail("scale", "must be in (0, 1e6]");
+                tex.scale[i] = static_cast<float>(v);
+            }
+        }
+    }
+    t.reject_unknown({"texture", "wrap", "scale"}, "an image texture");
+    return tex;
+}
+
 ColorTexture parse_albedo(TableReader& r, std::string_view key) {
     const toml::node& n = r.require(key);
     ColorTexture tex;
@@ -28,6 +65,7 @@ ColorTexture parse_albedo(TableReader& r, std::string_view key) {
         return tex;
     }
     TableReader checker(*n.as_table(), r.where(key).file, r.field(key));
+    if (checker.has("texture")) return parse_texture(checker, r.where(key).file);
     const toml::array& colors = checker.array("checker");
     if (colors.size() != 2)
         checker.fail("checker",
@@ -43,7 +81,7 @@ ColorTexture parse_albedo(TableReader& r, std::string_view key) {
         if (c < 1 || c > 100000) checker.fail("cells", "must be between 1 and 100000");
         tex.cells[i] = static_cast<float>(c);
     }
-    checker.reject_unknown({"checker", "cells"}, "a checker albedo");
+    checker.reject_unknown({"checker", "cells"}, "a checker albedo (or give texture = FILE)");
     return tex;
 }
 
@@ -70,10 +108,12 @@ MaterialDescription parse_material(const toml::table& t, const std::string& file
         m.type = MaterialType::Diffuse;
         // An emitter may leave its albedo out (it reflects nothing); any other surface must say.
         if (r.has("albedo") || !m.is_emissive()) m.albedo = parse_albedo(r, "albedo");
+        d.albedo_where = r.where("albedo");
         allowed.push_back("albedo");
     } else if (type == "glossy") {
         m.type = MaterialType::Glossy;
         if (r.has("albedo")) m.albedo = parse_albedo(r, "albedo");
+        d.albedo_where = r.where("albedo");
         m.specular = r.color("specular", true, Color(1.0f));
         m.roughness = static_cast<float>(r.number_in("roughness", 0.0, 1.0, true, false));
         // Energy conservation: the diffuse base and the lobe share what the surface receives.
@@ -129,8 +169,9 @@ Transform read_transform_step(TableReader& step) {
             s = step.dvec3("scale");
         for (int i = 0; i < 3; ++i)
             if (s[i] == 0.0)
-                step.fail("scale", "must not be zero: a zero scale flattens the shape (and its "
-                                   "normals cannot follow)");
+                step.fail("scale",
+                          "must not be zero: a zero scale flattens the shape (and its "
+                          "normals cannot follow)");
         t = Transform::scaling(s);
     } else if (present[0] == "rotate") {
         TableReader rotate(step.table("rotate"), step.where("rotate").file, step.field("rotate"));
@@ -169,8 +210,8 @@ Transform read_matrix(TableReader& r) {
         t.offset[row] = m[row][3];
     }
     // Invertible, relative to the size of its columns (a scale of 1e-6 is fine, a flat one not).
-    const double size = glm::length(t.linear[0]) * glm::length(t.linear[1]) *
-                        glm::length(t.linear[2]);
+    const double size =
+        glm::length(t.linear[0]) * glm::length(t.linear[1]) * glm::length(t.linear[2]);
     if (!(std::fabs(t.determinant()) > 1e-12 * size))
         r.fail("matrix", "is not invertible (its determinant is 0): it flattens the shape");
     return t;
@@ -189,7 +230,9 @@ void read_transform(TableReader& r, ShapeDescription& s) {
         for (size_t i = 0; i < steps.size(); ++i) {
             const toml::table* t = steps.get(i)->as_table();
             const std::string field = r.field("transform") + "[" + std::to_string(i) + "]";
-            if (!t) r.fail("transform", "step " + std::to_string(i) + ": expected a table, e.g. "
+            if (!t)
+                r.fail("transform", "step " + std::to_string(i) +
+                                        ": expected a table, e.g. "
                                         "{ scale = 2 }");
             TableReader step(*t, s.where.file, field);
             s.transform = s.transform.then(read_transform_step(step));

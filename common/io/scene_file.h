@@ -28,8 +28,9 @@ struct SourceLocation {
 };
 
 struct MaterialDescription {
-    Material material;
+    Material material;  // an image albedo has its file named, not yet read
     SourceLocation where;
+    SourceLocation albedo_where;
 };
 
 struct ShapeDescription {
