@@ -2,6 +2,7 @@
 // irradiance against closed forms, one-sidedness, and choice by power.
 #include <gtest/gtest.h>
 
+#include "lights/environment.h"
 #include "lights/lights.h"
 #include "sampling/sampling.h"
 #include "statistics.h"
@@ -11,7 +12,7 @@ using namespace lessons;
 
 namespace {
 
-const double kSignificance = test::sidak(0.01, 61);
+const double kSignificance = test::sidak(0.01, 64);
 
 uint32_t add_emitter(Scene& scene, const Color& radiance, bool two_sided = false) {
     Material m;
@@ -37,7 +38,7 @@ test::Chi2Result check_light_directions(const Scene& scene, const Vec3& p, uint6
         [&](const Vec3& w) -> double {
             const Ray ray{p, w};
             const std::optional<Hit> hit = scene.intersect(ray);
-            if (!hit) return sampler.environment_pdf();
+            if (!hit) return sampler.environment_pdf(w);
             return sampler.pdf(p, scene.interaction(ray, *hit));
         },
         1000000, kSignificance, 40, 80);
@@ -315,4 +316,84 @@ TEST(Lights, RectangleLightsAreSampledBySolidAngleNearTheirPlane) {
         EXPECT_TRUE(r.passed) << r.report;
         EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3) << r.report;
     }
+}
+
+namespace {
+
+// A small map with structure: a sky gradient, a dark ground and one bright texel.
+std::shared_ptr<const EnvironmentMap> test_map(float rotate, int bright_row = 3) {
+    const int w = 16, h = 8;
+    std::vector<Color> texels(w * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+            texels[j * w + i] = j < h / 2 ? Color(0.2f + 0.1f * j, 0.3f, 0.5f + 0.05f * i)
+                                          : Color(0.05f, 0.04f, 0.03f);
+    texels[bright_row * w + 5] = Color(50.0f);
+    return std::make_shared<const EnvironmentMap>(w, h, texels, rotate, 1.5f);
+}
+
+}  // namespace
+
+TEST(Lights, EnvironmentMapDirectionsMatchTheirDensity) {
+    Scene scene;
+    scene.environment_map = test_map(30.0f);
+    scene.commit();
+    const auto r = check_light_directions(scene, Vec3(0), 5);
+    EXPECT_TRUE(r.passed) << r.report;
+    // The density integrates to 1 over the sphere (numerically, over the test's cells).
+    EXPECT_NEAR(r.pdf_integral, 1.0, 2e-3);
+}
+
+TEST(Lights, EnvironmentMapDensityIntegratesToOne) {
+    // Monte Carlo over uniform directions: E[pdf(w) / (1 / 4 pi)] = 1.
+    const auto map = test_map(-70.0f);
+    Rng rng(11);
+    double sum = 0.0, sum2 = 0.0;
+    const int n = 400000;
+    for (int k = 0; k < n; ++k) {
+        const double x =
+            map->pdf(sample_uniform_sphere({rng.uniform(), rng.uniform()})) * 4.0 * kPi;
+        sum += x;
+        sum2 += x * x;
+    }
+    const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
+    EXPECT_NEAR(mean, 1.0, test::z_quantile(kSignificance) * se);
+    // And every sample's density is the density of its direction.
+    for (int k = 0; k < 1000; ++k) {
+        const auto s = map->sample({rng.uniform(), rng.uniform()});
+        ASSERT_TRUE(s);
+        EXPECT_NEAR(s->pdf, map->pdf(s->dir), 1e-4f * s->pdf);
+        EXPECT_EQ(s->radiance, map->radiance(s->dir));
+    }
+}
+
+// One bright texel is a small sun: the irradiance it gives a surface is its radiance times the
+// integral of cos(theta) over its patch, (2 pi / W) (sin^2 theta_1 - sin^2 theta_0) / 2 for a
+// surface facing the zenith, exactly (the radiance is constant over the patch).
+TEST(Lights, OneBrightTexelIsASmallSun) {
+    const int w = 16, h = 8, row = 2, column = 5;
+    std::vector<Color> texels(w * h, Color(0.0f));
+    texels[row * w + column] = Color(100.0f);
+    Scene scene;
+    scene.environment_map = std::make_shared<const EnvironmentMap>(w, h, texels, 0.0f, 1.0f);
+    scene.commit();
+    const double t0 = kPi * row / h, t1 = kPi * (row + 1) / h;
+    const double expected =
+        100.0 * (2.0 * kPi / w) * 0.5 * (std::pow(std::sin(t1), 2) - std::pow(std::sin(t0), 2));
+    const auto [mean, se] = irradiance_by_light_sampling(scene, Vec3(0), Vec3(0, 1, 0), 200000, 3);
+    EXPECT_NEAR(mean, expected, test::z_quantile(kSignificance) * se + 1e-6 * expected);
+    // It lights from its own direction: phi of column 5.5 / 16 of the way round, from +x to +z.
+    const auto s = scene.environment_map->sample({0.5f, 0.5f});
+    ASSERT_TRUE(s);
+    const double phi = std::atan2(s->dir.z, s->dir.x);
+    EXPECT_NEAR(phi, 2.0 * kPi * 5.5 / 16.0, 2.0 * kPi / 16.0);
+}
+
+TEST(Lights, EnvironmentMapsRefuseBadTexelsAndDarkness) {
+    EXPECT_THROW(EnvironmentMap(2, 1, {Color(NAN), Color(1.0f)}, 0.0f, 1.0f),
+                 std::invalid_argument);
+    EXPECT_THROW(EnvironmentMap(2, 1, {Color(-1.0f), Color(1.0f)}, 0.0f, 1.0f),
+                 std::invalid_argument);
+    EXPECT_THROW(EnvironmentMap(2, 1, {Color(0.0f), Color(0.0f)}, 0.0f, 1.0f),
+                 std::invalid_argument);
 }

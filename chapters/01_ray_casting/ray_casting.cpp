@@ -147,7 +147,7 @@ Color direct_local(const Scene& scene, const SurfaceInteraction& si, const Local
 
 Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& options) {
     const std::optional<Hit> hit = scene.intersect(ray);
-    if (!hit) return scene.background;  // the ray escapes: it sees the background
+    if (!hit) return scene.background_radiance(ray.dir);  // the ray escapes: it sees the sky
     const SurfaceInteraction si = scene.interaction(ray, *hit);
     const LocalMaterial m = local_material(scene.material(si.material), si.uv);
     // Shade the side the ray arrived on: both normals turned towards the viewer.
@@ -169,7 +169,14 @@ Color ambient_radiance(const std::vector<float>& values, const Scene& scene) {
     if (values.size() == 3) return Color(values[0], values[1], values[2]);
     if (values.size() == 2)
         throw InputError("command line", 0, "--ambient", "give one value or three (R G B)");
-    return scene.background;
+    return scene.environment_map ? scene.environment_map->mean() : scene.background;
+}
+
+std::string environment_map_note(const Scene& scene) {
+    if (!scene.environment_map) return "";
+    return "environment map: escaping rays see it, but it lights surfaces only through the "
+           "ambient term, as its mean radiance (no direction, no shadows; lessons 3 to 5 sample "
+           "it)";
 }
 
 Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options) {
@@ -180,6 +187,7 @@ Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& option
     if (!scene.area_lights().empty()) model.notes.push_back(area_lights_as_points_note(scene));
     for (const std::string& n : local_material_notes(scene)) model.notes.push_back(n);
     model.notes.push_back(ambient_note(options.ambient));
+    if (scene.environment_map) model.notes.push_back(environment_map_note(scene));
     model.biased_because.push_back(
         "a local model: light arriving from other surfaces (indirect light, reflections, "
         "refraction) is missing, and the ambient term is a constant guess for it");

@@ -33,6 +33,8 @@ std::vector<std::string> local_material_notes(const Scene& scene);
 std::string glossy_as_highlight_note(const Material& m);
 std::string area_lights_as_points_note(const Scene& scene);
 std::string ambient_note(const Color& ambient);
+// What lessons 1 and 2 make of an environment map (empty without one).
+std::string environment_map_note(const Scene& scene);
 
 // Direct light from every light in the scene, each treated as a point source, with one shadow
 // ray each: the sum over lights of f * I cos / d^2 * V.

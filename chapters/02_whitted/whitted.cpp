@@ -28,7 +28,7 @@ Color trace_branch(const Scene& scene, const SurfaceInteraction& si, const Vec3&
 Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options, int depth,
               const Color& attenuation) {
     const std::optional<Hit> hit = scene.intersect(ray);
-    if (!hit) return scene.background;
+    if (!hit) return scene.background_radiance(ray.dir);
     const SurfaceInteraction si = scene.interaction(ray, *hit);
     const Material& material = scene.material(si.material);
     // The shading normal on the side the ray arrived from (decided by the intersection test).
@@ -101,6 +101,7 @@ Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
     if (!has_specular)
         model.notes.push_back("no mirror or glass in this scene: the image equals lesson 1's");
     model.notes.push_back(ambient_note(options.ambient));
+    if (scene.environment_map) model.notes.push_back(environment_map_note(scene));
     if (has_specular && !scene.point_lights().empty())
         model.notes.push_back(
             "point lights are never seen in mirrors or glass (a reflected ray never hits a "

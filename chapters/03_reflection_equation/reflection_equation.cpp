@@ -20,7 +20,7 @@ struct Incident {
 Incident emitted_along(const Scene& scene, const LightSampler& lights, const Vec3& p,
                        const Ray& ray) {
     const std::optional<Hit> hit = scene.intersect(ray);
-    if (!hit) return {scene.background, lights.environment_pdf()};
+    if (!hit) return {scene.background_radiance(ray.dir), lights.environment_pdf(ray.dir)};
     const SurfaceInteraction light_hit = scene.interaction(ray, *hit);
     const Color Le = scene.emitted(light_hit);
     if (is_black(Le)) return {};
@@ -74,7 +74,7 @@ Color light_sample_term(const Scene& scene, const LightSampler& lights,
 Color reflection_equation(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
                           const ReflectionOptions& options) {
     const std::optional<Hit> hit = scene.intersect(ray);
-    if (!hit) return scene.background;
+    if (!hit) return scene.background_radiance(ray.dir);
     const SurfaceInteraction si = scene.interaction(ray, *hit);
     const Bsdf bsdf(scene.material(si.material), si);
     const SurfacePoint at = si.surface_point();

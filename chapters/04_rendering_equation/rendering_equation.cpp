@@ -61,8 +61,11 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
         // it by the power heuristic of their densities for this direction.
         const bool weigh = options.next_event && !specular;
         if (!hit) {
-            const float w = weigh ? power_heuristic(previous_pdf, lights.environment_pdf()) : 1.0f;
-            if (!is_black(scene.background)) add(bounce, w * beta * scene.background);
+            if (scene.has_environment()) {
+                const float w =
+                    weigh ? power_heuristic(previous_pdf, lights.environment_pdf(ray.dir)) : 1.0f;
+                add(bounce, w * beta * scene.background_radiance(ray.dir));
+            }
             break;
         }
         const SurfaceInteraction si = scene.interaction(ray, *hit);

@@ -11,7 +11,7 @@ namespace {
 
 // s = 0: the camera path's last vertex is on a light (or is the sky): L = beta_C L_e.
 Color camera_path_found_light(const Bidir& b, const Vertex& z) {
-    if (z.infinite) return z.beta * b.scene.background;
+    if (z.infinite) return z.beta * b.scene.background_radiance(z.p);
     if (z.type != VertexType::Surface) return Color(0.0f);
     return z.beta * b.scene.emitted(z.si);
 }

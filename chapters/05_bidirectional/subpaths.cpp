@@ -22,7 +22,7 @@ float to_area_density(float pdf_solid_angle, const Vertex& from, const Vertex& t
 }
 
 float light_origin_density(const Bidir& b, const Vertex& v) {
-    if (v.infinite) return b.lights.environment_pdf();
+    if (v.infinite) return b.lights.environment_pdf(v.p);  // its direction
     if (v.type == VertexType::Light && v.point_light) return v.pdf_fwd;  // set when sampled
     const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
     return prim ? b.lights.emission_pdf(*prim, v.n, v.n).area : 0.0f;
@@ -95,7 +95,7 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
         const std::optional<Hit> hit = b.scene.intersect(ray);
         if (!hit) {
             // The camera path escapes: a last vertex at the sky, if there is one.
-            if (transport == Transport::Radiance && !is_black(b.scene.background)) {
+            if (transport == Transport::Radiance && b.scene.has_environment()) {
                 Vertex sky;
                 sky.type = VertexType::Light;
                 sky.infinite = true;

@@ -3,10 +3,12 @@
 #include <iostream>
 #include <map>
 
+#include "io/image.h"
 #include "io/input_error.h"
 #include "io/mesh_file.h"
 #include "io/scene_file.h"
 #include "io/texture.h"
+#include "lights/environment.h"
 
 namespace lessons {
 
@@ -33,6 +35,34 @@ void read_albedo_texture(Material& m, const SourceLocation& where, const InputLi
         throw InputError(where.file, where.line, where.field,
                          "albedo (its brightest texel) + specular must be at most 1 in every "
                          "channel; lower specular");
+}
+
+// [background] map: read, checked, and made the scene's environment. A map of one colour is a
+// uniform sky (the same images, bit for bit, as radiance = that colour: nothing to sample).
+void read_environment_map(const SceneDescription& d, const InputLimits& limits, Scene& scene) {
+    const SourceLocation& w = d.background_where;
+    Image image;
+    try {
+        check_input_file(d.background_map, "environment map", limits.file_bytes(), "--max-file-mb");
+        image = read_exr(d.background_map);
+    } catch (const InputError& e) {
+        throw InputError(w.file, w.line, w.field, e.what());
+    } catch (const std::runtime_error& e) {
+        throw InputError(w.file, w.line, w.field, e.what());
+    }
+    bool constant = true;
+    for (const Color& c : image.pixels) constant &= c == image.pixels.front();
+    try {
+        auto map = std::make_shared<const EnvironmentMap>(
+            image.width, image.height, std::move(image.pixels), d.background_rotate,
+            d.background_strength);
+        if (constant)
+            scene.background = map->radiance(Vec3(0.0f, 1.0f, 0.0f));
+        else
+            scene.environment_map = map;
+    } catch (const std::invalid_argument& e) {
+        throw InputError(w.file, w.line, w.field, d.background_map + ": " + e.what());
+    }
 }
 
 // A mesh placed by its shape's transform: positions in double, rounded once; normals by the
@@ -171,6 +201,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     scene.width = options.width > 0 ? options.width : d.width;
     scene.height = options.height > 0 ? options.height : d.height;
     scene.background = d.background;
+    if (!d.background_map.empty()) read_environment_map(d, options.limits, scene);
     scene.camera = Camera(d.camera_position, d.camera_look_at, d.camera_up, d.camera_fov,
                           static_cast<float>(scene.width) / static_cast<float>(scene.height));
 

@@ -410,6 +410,31 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
     return s;
 }
 
+// [background]: a uniform radiance, or a map (an EXR of radiance) with its rotation and strength.
+void read_background(TableReader& top, const std::string& file, SceneDescription& d) {
+    TableReader bg(top.table("background"), file, "background");
+    if (bg.has("radiance") == bg.has("map"))
+        bg.fail(bg.has("map") ? "map" : "radiance",
+                "give either radiance = [r, g, b] (a uniform sky) or map = \"FILE.exr\" (an "
+                "environment map), one of the two");
+    if (bg.has("radiance")) {
+        d.background = bg.color("radiance", false);
+        bg.reject_unknown({"radiance"}, "[background] with a uniform radiance");
+        return;
+    }
+    const std::filesystem::path rel = bg.string("map");
+    d.background_where = bg.where("map");
+    if (rel.extension() != ".exr" && rel.extension() != ".EXR")
+        bg.fail("map", "an environment map is an OpenEXR file of linear radiance (.exr)");
+    d.background_map = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
+                           .lexically_normal()
+                           .string();
+    d.background_rotate = static_cast<float>(bg.number("rotate", 0.0));
+    d.background_strength =
+        static_cast<float>(bg.number_in("strength", 0.0, 1e9, true, false, 1.0));
+    bg.reject_unknown({"map", "rotate", "strength"}, "[background] with a map");
+}
+
 // [image] and [camera], into d.
 void read_image_and_camera(TableReader& top, const std::string& file, SceneDescription& d) {
     TableReader image(top.table("image"), file, "image");
@@ -472,11 +497,7 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
     TableReader top(root, file, "");
     if (top.has("description")) d.description = top.string("description");
     read_image_and_camera(top, file, d);
-    if (top.has("background")) {
-        TableReader bg(top.table("background"), file, "background");
-        d.background = bg.color("radiance", false);
-        bg.reject_unknown({"radiance"}, "[background]");
-    }
+    if (top.has("background")) read_background(top, file, d);
     if (top.has("materials")) {
         for (const auto& [key, node] : top.table("materials")) {
             const std::string name(key.str());

@@ -70,6 +70,10 @@ struct SceneDescription {
     float camera_fov = 45.0f;
     SourceLocation camera_where;
     Color background{0.0f};
+    // [background] map: a latitude-longitude EXR (resolved path), turned and scaled.
+    std::string background_map;
+    float background_rotate = 0.0f, background_strength = 1.0f;
+    SourceLocation background_where;
     std::vector<MaterialDescription> materials;
     std::vector<ShapeDescription> shapes;
     std::vector<PointLightDescription> point_lights;

@@ -50,7 +50,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         lights_.push_back({Kind::Area, i});
         power.push_back(p);
     }
-    if (!is_black(scene.background)) {
+    if (scene.has_environment()) {
         // A uniform environment of radiance L sends, from every direction, the radiance L
         // through the disk of area pi R^2 that the scene's bounding sphere (radius R) shows
         // that direction: pi R^2 L per steradian, over 4 pi steradians, power 4 pi^2 R^2 L.
@@ -61,7 +61,8 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
         environment_ = lights_.size();
         lights_.push_back({Kind::Environment, 0});
-        power.push_back(kPi * kPi * r * r * luminance(scene.background));
+        const Color sky = scene.environment_map ? scene.environment_map->mean() : scene.background;
+        power.push_back(kPi * kPi * r * r * luminance(sky));
     }
     double total = 0.0;
     for (float p : power) total += p;
@@ -82,8 +83,10 @@ float LightSampler::choice_probability(size_t light) const {
     return cdf_[light] - (light > 0 ? cdf_[light - 1] : 0.0f);
 }
 
-float LightSampler::environment_pdf() const {
-    return environment_ ? choice_probability(*environment_) * uniform_sphere_pdf() : 0.0f;
+float LightSampler::environment_pdf(const Vec3& dir) const {
+    if (!environment_) return 0.0f;
+    const float p = scene_.environment_map ? scene_.environment_map->pdf(dir) : uniform_sphere_pdf();
+    return choice_probability(*environment_) * p;
 }
 
 std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_choose,
@@ -112,6 +115,14 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
         }
         case Kind::Area: s = sample_area(e.index, at, u); break;
         case Kind::Environment: {
+            // A map: by its importance (environment.h); a uniform sky: uniform on the sphere.
+            if (scene_.environment_map) {
+                const std::optional<EnvironmentMap::Sample> m = scene_.environment_map->sample(u);
+                if (!m) return std::nullopt;
+                s = LightSample{m->radiance, m->dir,           kInfinity, m->pdf, false,
+                                spawn_ray(at, m->dir), std::nullopt};
+                break;
+            }
             const Vec3 wi = sample_uniform_sphere(u);
             s = LightSample{scene_.background, wi,          kInfinity, uniform_sphere_pdf(), false,
                             spawn_ray(at, wi), std::nullopt};

@@ -11,7 +11,8 @@
 //     solid angle is too small or too large to sample accurately);
 //   other quads, triangles: a point uniform by area, p_A = 1 / A, converted to solid angle;
 //   spheres: a direction uniform in the cone the sphere subtends (from inside: by area);
-//   environment: a direction uniform on the sphere, 1 / (4 pi);
+//   environment: a uniform sky, a direction uniform on the sphere, 1 / (4 pi); a map, by its
+//     importance, luminance times sin(theta) per texel (lights/environment.h);
 //   point lights: their position (a delta distribution).
 #pragma once
 
@@ -92,8 +93,9 @@ public:
     float pdf(const Vec3& p, const SurfaceInteraction& light_hit) const;
     // The same for the point q (unit geometric normal n_q) of the emissive primitive `light`.
     float pdf(const Vec3& p, PrimRef light, const Vec3& q, const Vec3& n_q) const;
-    // The same for a direction that escapes to the uniform environment.
-    float environment_pdf() const;
+    // The same for unit direction `dir` escaping to the environment (a map's importance, or
+    // uniform on the sphere for a uniform sky).
+    float environment_pdf(const Vec3& dir) const;
 
     // A ray of light leaving a light, from five uniform numbers (see EmissionSample).
     std::optional<EmissionSample> sample_emission(float u_choose, const Vec2& u_point,

@@ -393,7 +393,7 @@ SceneContents Scene::contents() const {
     SceneContents c;
     c.point_lights = !point_lights_.empty();
     c.area_lights = !area_lights_.empty();
-    c.environment = !is_black(background);
+    c.environment = has_environment();
     auto delta = [&](uint32_t m) {
         return materials_[m].type == MaterialType::Mirror ||
                materials_[m].type == MaterialType::Glass;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "geometry/math.h"
 #include "geometry/shapes.h"
 #include "geometry/spawn.h"
+#include "lights/environment.h"
 #include "materials/material.h"
 #include "render/camera.h"
 
@@ -159,7 +161,14 @@ public:
     // ---- what is seen and how ----
     Camera camera;
     int width = 0, height = 0;
-    Color background{0.0f};  // radiance of every ray that escapes the scene
+    Color background{0.0f};  // radiance of every ray that escapes the scene (without a map)
+    // Or, when set, the radiance an escaping ray sees depends on its direction.
+    std::shared_ptr<const EnvironmentMap> environment_map;
+    // What a ray escaping along unit direction `dir` sees.
+    Color background_radiance(const Vec3& dir) const {
+        return environment_map ? environment_map->radiance(dir) : background;
+    }
+    bool has_environment() const { return environment_map || !is_black(background); }
     NaiveMethods naive;      // for demonstrations only
     std::string source;      // the file it came from, for messages and reports
 

@@ -1,0 +1,117 @@
+// Environment maps (see environment.h).
+#include "lights/environment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace lessons {
+
+namespace {
+constexpr double kPiD = 3.14159265358979323846;
+
+// The index of the first entry of cdf[begin, begin + n) above u, and u rescaled to [0, 1)
+// within that entry's interval.
+size_t pick(const std::vector<float>& cdf, size_t begin, size_t n, float u, float& rest) {
+    const auto first = cdf.begin() + static_cast<std::ptrdiff_t>(begin);
+    size_t k = static_cast<size_t>(
+        std::upper_bound(first, first + static_cast<std::ptrdiff_t>(n), u) - first);
+    k = std::min(k, n - 1);
+    const float lo = k > 0 ? cdf[begin + k - 1] : 0.0f, hi = cdf[begin + k];
+    rest = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
+    return k;
+}
+}  // namespace
+
+EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
+                               float rotate_degrees, float strength)
+    : width_(width),
+      height_(height),
+      rotate_(static_cast<float>(rotate_degrees * kPiD / 180.0)),
+      texels_(std::move(texels)) {
+    if (width_ < 1 || height_ < 1 || texels_.size() != static_cast<size_t>(width_) * height_)
+        throw std::invalid_argument("the map has no pixels");
+    std::vector<double> weight(texels_.size());
+    glm::dvec3 integral(0.0);
+    double total = 0.0;
+    for (int j = 0; j < height_; ++j) {
+        const double theta0 = kPiD * j / height_, theta1 = kPiD * (j + 1) / height_;
+        const double sin_centre = std::sin(0.5 * (theta0 + theta1));
+        const double solid_angle = 2.0 * kPiD / width_ * (std::cos(theta0) - std::cos(theta1));
+        for (int i = 0; i < width_; ++i) {
+            Color& c = texels_[static_cast<size_t>(j) * width_ + i];
+            if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) ||
+                min_component(c) < 0.0f)
+                throw std::invalid_argument("texel (" + std::to_string(i) + ", " +
+                                            std::to_string(j) +
+                                            ") is negative or not finite: radiance is >= 0");
+            c *= strength;
+            weight[static_cast<size_t>(j) * width_ + i] = luminance(c) * sin_centre;
+            total += weight[static_cast<size_t>(j) * width_ + i];
+            integral += glm::dvec3(c) * solid_angle;
+        }
+    }
+    if (!(total > 0.0) || !std::isfinite(total))
+        throw std::invalid_argument(
+            "the map sends no light (every texel is black): its total "
+            "power is zero");
+    mean_ = Color(integral / (4.0 * kPiD));
+    probability_.resize(texels_.size());
+    column_cdf_.resize(texels_.size());
+    row_cdf_.resize(height_);
+    double rows = 0.0;
+    for (int j = 0; j < height_; ++j) {
+        double row = 0.0;
+        for (int i = 0; i < width_; ++i) row += weight[static_cast<size_t>(j) * width_ + i];
+        double running = 0.0;
+        for (int i = 0; i < width_; ++i) {
+            const size_t k = static_cast<size_t>(j) * width_ + i;
+            running += weight[k];
+            column_cdf_[k] = row > 0.0 ? static_cast<float>(running / row) : float(i + 1) / width_;
+            probability_[k] = static_cast<float>(weight[k] / total);
+        }
+        column_cdf_[static_cast<size_t>(j) * width_ + width_ - 1] = 1.0f;
+        rows += row;
+        row_cdf_[j] = static_cast<float>(rows / total);
+    }
+    row_cdf_.back() = 1.0f;
+}
+
+Vec3 EnvironmentMap::direction(float u, float v) const {
+    const float theta = static_cast<float>(kPiD) * v;
+    const float phi = 2.0f * static_cast<float>(kPiD) * u + rotate_;
+    const float s = std::sin(theta);
+    return {s * std::cos(phi), std::cos(theta), s * std::sin(phi)};
+}
+
+size_t EnvironmentMap::texel_of(const Vec3& d) const {
+    const double theta = std::acos(std::clamp(static_cast<double>(d.y), -1.0, 1.0));
+    double phi = std::atan2(static_cast<double>(d.z), static_cast<double>(d.x)) - rotate_;
+    phi -= 2.0 * kPiD * std::floor(phi / (2.0 * kPiD));
+    const int i = std::min(width_ - 1, static_cast<int>(phi / (2.0 * kPiD) * width_));
+    const int j = std::min(height_ - 1, static_cast<int>(theta / kPiD * height_));
+    return static_cast<size_t>(std::max(j, 0)) * width_ + static_cast<size_t>(std::max(i, 0));
+}
+
+std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(const Vec2& u) const {
+    float du = 0.0f, dv = 0.0f;
+    const size_t j = pick(row_cdf_, 0, static_cast<size_t>(height_), u.y, dv);
+    const size_t i = pick(column_cdf_, j * width_, static_cast<size_t>(width_), u.x, du);
+    const Vec3 dir = direction((static_cast<float>(i) + du) / width_,
+                               (static_cast<float>(j) + dv) / height_);
+    // The density and radiance of the direction as made (rounding may put it across a texel's
+    // edge): the same numbers pdf() and radiance() give it, as MIS needs.
+    const float p = pdf(dir);
+    if (!(p > 0.0f)) return std::nullopt;
+    return Sample{dir, radiance(dir), p};
+}
+
+float EnvironmentMap::pdf(const Vec3& dir) const {
+    // sin(theta) from the horizontal components: accurate near the poles, where 1 - y^2 is not.
+    const float sin_theta = std::sqrt(dir.x * dir.x + dir.z * dir.z);
+    if (!(sin_theta > 0.0f)) return 0.0f;
+    return probability_[texel_of(dir)] * width_ * height_ /
+           (2.0f * static_cast<float>(kPiD * kPiD) * sin_theta);
+}
+
+}  // namespace lessons

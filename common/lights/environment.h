@@ -1,0 +1,59 @@
+// An environment map: the radiance arriving from infinitely far away in every direction, as a
+// latitude-longitude image of linear radiance (docs/scene-format.md, "[background]"), and its
+// importance sampling for lessons 3 to 5.
+//
+// Directions: theta from the +y axis (the zenith, the image's top row) down to -y (its bottom
+// row), phi about +y from +x towards +z (the image's left edge is +x, a quarter across is +z):
+//   d = (sin(theta) cos(phi), cos(theta), sin(theta) sin(phi)),  u = phi / 2 pi,  v = theta / pi,
+// and `rotate` turns the map about +y by that many degrees (phi of the image = phi - rotate).
+// The radiance is piecewise constant: each texel's value over its patch of the sphere.
+//
+// Sampling: a texel with probability proportional to its luminance times sin(theta) at its
+// row's centre (the solid angle its patch covers, up to a constant), then a point uniform in
+// (u, v) within it. A patch of du dv covers 2 pi^2 sin(theta) du dv steradians, so the
+// density per unit solid angle is  p = P(texel) W H / (2 pi^2 sin(theta)).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/math.h"
+
+namespace lessons {
+
+class EnvironmentMap {
+public:
+    // texels: width x height, top row first, linear radiance (W / (sr m^2)) before `strength`.
+    // Throws std::invalid_argument if a texel is negative or not finite, or all are black.
+    EnvironmentMap(int width, int height, std::vector<Color> texels, float rotate_degrees,
+                   float strength);
+
+    Color radiance(const Vec3& dir) const { return texels_[texel_of(dir)]; }
+    struct Sample {
+        Vec3 dir;
+        Color radiance;
+        float pdf;  // per steradian
+    };
+    std::optional<Sample> sample(const Vec2& u) const;
+    float pdf(const Vec3& dir) const;
+
+    // The mean radiance over the sphere (what a constant sky of the same power would have).
+    Color mean() const { return mean_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+private:
+    size_t texel_of(const Vec3& dir) const;
+    Vec3 direction(float u, float v) const;
+
+    int width_, height_;
+    float rotate_;  // radians
+    std::vector<Color> texels_;
+    std::vector<float> row_cdf_;      // height_ entries, the last 1
+    std::vector<float> column_cdf_;   // width_ per row, each row's last 1
+    std::vector<float> probability_;  // of each texel
+    Color mean_{0.0f};
+};
+
+}  // namespace lessons
