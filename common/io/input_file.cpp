@@ -3,6 +3,8 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
+
 #include <fstream>
 #include <sstream>
 
@@ -11,9 +13,11 @@
 namespace lessons {
 
 namespace {
-// "a scene file", "an OBJ file".
+// "a scene file", "an OBJ file", "an MTL file" (an acronym's letters are read by name).
 std::string a(const std::string& what) {
-    return (what.find_first_of("AEIOUaeiou") == 0 ? "an " : "a ") + what;
+    const bool acronym = what.size() > 1 && std::isupper(static_cast<unsigned char>(what[1]));
+    const std::string vowel_sounds = acronym ? "AEFHILMNORSX" : "AEIOUaeiou";
+    return (what.find_first_of(vowel_sounds) == 0 ? "an " : "a ") + what;
 }
 }  // namespace
 

@@ -55,7 +55,7 @@ Material from_mtl(const tinyobj::material_t& mtl, const std::string& folder) {
 
 // tinyobjloader reads "nan" or "inf" as 0 without a word; check vertex data ourselves first, so
 // a bad value is an error that names its line.
-void check_vertex_numbers(const std::string& path) {
+void check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
     std::ifstream in(path);
     if (!in) throw InputError(path, 0, "", "cannot open the OBJ file (permissions?)");
     std::string line;
@@ -63,12 +63,25 @@ void check_vertex_numbers(const std::string& path) {
         std::istringstream fields(line);
         std::string keyword;
         fields >> keyword;
+        // tinyobjloader opens the MTL library itself: it must be a regular file under the cap
+        // too (a missing one is tinyobjloader's warning, as before).
+        if (keyword == "mtllib") {
+            for (std::string name; fields >> name;) {
+                const std::string mtl =
+                    (std::filesystem::path(path).parent_path() / name).lexically_normal().string();
+                std::error_code ec;
+                if (std::filesystem::exists(mtl, ec))
+                    check_input_file(mtl, "MTL file", max_bytes, "--max-file-mb");
+            }
+            continue;
+        }
         if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
         for (std::string token; fields >> token;) {
             char* end = nullptr;
             const double x = std::strtod(token.c_str(), &end);
+            const bool number_ok = end != token.c_str() && *end == '\0';
             if (token.size() > 40) token = token.substr(0, 40) + "...";
-            if (end == token.c_str() || *end != '\0')
+            if (!number_ok)
                 throw InputError(path, number, keyword, "'" + token + "' is not a number");
             if (!std::isfinite(x) || std::fabs(x) > 1e9)
                 throw InputError(path, number, keyword,
@@ -85,7 +98,7 @@ namespace {
 // warnings go to stderr, its errors become an InputError.
 void parse_obj(const std::string& path, uint64_t max_bytes, tinyobj::ObjReader& reader) {
     check_input_file(path, "OBJ file", max_bytes, "--max-file-mb");
-    check_vertex_numbers(path);
+    check_vertex_numbers(path, max_bytes);
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;

@@ -40,18 +40,21 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
         const double solid_angle = 2.0 * kPiD / width_ * (std::cos(theta0) - std::cos(theta1));
         for (int i = 0; i < width_; ++i) {
             Color& c = texels_[static_cast<size_t>(j) * width_ + i];
+            c *= strength;  // checked after scaling: a huge texel times the strength may overflow
             if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) ||
                 min_component(c) < 0.0f)
                 throw std::invalid_argument("texel (" + std::to_string(i) + ", " +
                                             std::to_string(j) +
-                                            ") is negative or not finite: radiance is >= 0");
-            c *= strength;
+                                            ") times the strength is negative or not finite: "
+                                            "radiance is finite and >= 0");
             weight[static_cast<size_t>(j) * width_ + i] = luminance(c) * sin_centre;
             total += weight[static_cast<size_t>(j) * width_ + i];
             integral += glm::dvec3(c) * solid_angle;
         }
     }
-    if (!(total > 0.0) || !std::isfinite(total))
+    if (!std::isfinite(total))
+        throw std::invalid_argument("the map's total power is not finite (texels too bright)");
+    if (!(total > 0.0))
         throw std::invalid_argument(
             "the map sends no light (every texel is black): its total "
             "power is zero");
@@ -68,25 +71,34 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
             const size_t k = static_cast<size_t>(j) * width_ + i;
             running += weight[k];
             column_cdf_[k] = row > 0.0 ? static_cast<float>(running / row) : float(i + 1) / width_;
-            probability_[k] = static_cast<float>(weight[k] / total);
         }
         column_cdf_[static_cast<size_t>(j) * width_ + width_ - 1] = 1.0f;
         rows += row;
         row_cdf_[j] = static_cast<float>(rows / total);
     }
     row_cdf_.back() = 1.0f;
+    // Each texel's probability as the sampler realises it: from the same (float) CDFs.
+    for (int j = 0; j < height_; ++j) {
+        const float row = row_cdf_[j] - (j > 0 ? row_cdf_[j - 1] : 0.0f);
+        for (int i = 0; i < width_; ++i) {
+            const size_t k = static_cast<size_t>(j) * width_ + i;
+            probability_[k] = row * (column_cdf_[k] - (i > 0 ? column_cdf_[k - 1] : 0.0f));
+        }
+    }
 }
 
 Vec3 EnvironmentMap::direction(float u, float v) const {
     const float theta = static_cast<float>(kPiD) * v;
-    const float phi = 2.0f * static_cast<float>(kPiD) * u + rotate_;
+    const float phi = 2.0f * static_cast<float>(kPiD) * u - rotate_;
     const float s = std::sin(theta);
     return {s * std::cos(phi), std::cos(theta), s * std::sin(phi)};
 }
 
 size_t EnvironmentMap::texel_of(const Vec3& d) const {
+    // (A NaN direction, which no lesson should make, reads texel 0 rather than undefined.)
+    if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z))) return 0;
     const double theta = std::acos(std::clamp(static_cast<double>(d.y), -1.0, 1.0));
-    double phi = std::atan2(static_cast<double>(d.z), static_cast<double>(d.x)) - rotate_;
+    double phi = std::atan2(static_cast<double>(d.z), static_cast<double>(d.x)) + rotate_;
     phi -= 2.0 * kPiD * std::floor(phi / (2.0 * kPiD));
     const int i = std::min(width_ - 1, static_cast<int>(phi / (2.0 * kPiD) * width_));
     const int j = std::min(height_ - 1, static_cast<int>(theta / kPiD * height_));
@@ -97,8 +109,8 @@ std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(const Vec2& u) cons
     float du = 0.0f, dv = 0.0f;
     const size_t j = pick(row_cdf_, 0, static_cast<size_t>(height_), u.y, dv);
     const size_t i = pick(column_cdf_, j * width_, static_cast<size_t>(width_), u.x, du);
-    const Vec3 dir = direction((static_cast<float>(i) + du) / width_,
-                               (static_cast<float>(j) + dv) / height_);
+    const Vec3 dir =
+        direction((static_cast<float>(i) + du) / width_, (static_cast<float>(j) + dv) / height_);
     // The density and radiance of the direction as made (rounding may put it across a texel's
     // edge): the same numbers pdf() and radiance() give it, as MIS needs.
     const float p = pdf(dir);

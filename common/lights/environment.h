@@ -5,7 +5,8 @@
 // Directions: theta from the +y axis (the zenith, the image's top row) down to -y (its bottom
 // row), phi about +y from +x towards +z (the image's left edge is +x, a quarter across is +z):
 //   d = (sin(theta) cos(phi), cos(theta), sin(theta) sin(phi)),  u = phi / 2 pi,  v = theta / pi,
-// and `rotate` turns the map about +y by that many degrees (phi of the image = phi - rotate).
+// and `rotate` turns the map about +y by that many degrees as a shape's rotation about +y turns
+// the shape (the right-hand rule: +z towards +x): phi of the image = phi + rotate.
 // The radiance is piecewise constant: each texel's value over its patch of the sphere.
 //
 // Sampling: a texel with probability proportional to its luminance times sin(theta) at its

@@ -41,6 +41,7 @@ struct ImageTexture {
     std::string file;
     // The bilinear value at (u, v): beyond [0, 1], repeated (tiled) or clamped to the edge.
     Color lookup(Vec2 uv, bool repeat) const {
+        if (!repeat) uv = glm::clamp(uv, Vec2(0.0f), Vec2(1.0f));  // NaN stays NaN: the mean below
         const float x = uv.x * width - 0.5f, y = (1.0f - uv.y) * height - 0.5f;
         const float fx = std::floor(x), fy = std::floor(y);
         const float tx = x - fx, ty = y - fy;

@@ -82,7 +82,7 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_option("--max-file-mb", o.limits.file_mb,
-                   "Largest mesh (OBJ) file a scene may name, in MiB")
+                   "Largest file a scene may name (OBJ mesh, texture, environment map), in MiB")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_option("--clamp", o.clamp,

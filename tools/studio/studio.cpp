@@ -845,7 +845,9 @@ std::string Studio::probe_json(int pane_index, int x, int y, int light, int samp
 
     const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
     const std::optional<Hit> hit = scene.intersect(ray);
-    if (!hit) return s + ", \"hit\": null, \"background\": " + json_color(scene.background) + "}";
+    if (!hit)
+        return s + ", \"hit\": null, \"background\": " +
+               json_color(scene.background_radiance(ray.dir)) + "}";
     const SurfaceInteraction si = scene.interaction(ray, *hit);
     const Material& m = scene.material(si.material);
     static const char* kinds[] = {"sphere", "quad", "triangle"};
