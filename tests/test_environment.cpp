@@ -11,6 +11,7 @@
 #include "io/scene_file.h"
 #include "render_statistics.h"
 #include "rendering_equation.h"
+#include "test_util.h"
 
 using namespace lessons;
 
@@ -57,18 +58,6 @@ material = "grey"
 center = [0, 0, 0]
 radius = 1
 )";
-}
-
-// The same structured map as the light tests: a gradient sky, a dark ground, one bright texel.
-std::shared_ptr<const EnvironmentMap> structured_map() {
-    const int w = 16, h = 8;
-    std::vector<Color> texels(w * h);
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i)
-            texels[j * w + i] = j < h / 2 ? Color(0.2f + 0.1f * j, 0.3f, 0.5f + 0.05f * i)
-                                          : Color(0.05f, 0.04f, 0.03f);
-    texels[2 * w + 5] = Color(30.0f);
-    return std::make_shared<const EnvironmentMap>(w, h, texels, 40.0f, 1.0f);
 }
 
 }  // namespace
@@ -119,7 +108,7 @@ TEST(EnvironmentMap, ADiffuseSphereUnderAConstantMapShowsRhoL) {
 TEST(EnvironmentMap, NextEventEstimationAndLesson5MatchBsdfSamplingPerPixel) {
     Scene scene = load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/sky.toml", {16, 12});
     scene.background = Color(0.0f);
-    scene.environment_map = structured_map();
+    scene.environment_map = test::structured_environment_map(40.0f, 2, 30.0f, 1.0f);
     const RenderResult mis = render4(scene, false, 1024, 7);
     const RenderResult plain = render4(scene, true, 4096, 8);
     const RenderResult five = render5(scene, 512, 9);

@@ -319,19 +319,9 @@ TEST(Lights, RectangleLightsAreSampledBySolidAngleNearTheirPlane) {
 }
 
 namespace {
-
-// A small map with structure: a sky gradient, a dark ground and one bright texel.
-std::shared_ptr<const EnvironmentMap> test_map(float rotate, int bright_row = 3) {
-    const int w = 16, h = 8;
-    std::vector<Color> texels(w * h);
-    for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i)
-            texels[j * w + i] = j < h / 2 ? Color(0.2f + 0.1f * j, 0.3f, 0.5f + 0.05f * i)
-                                          : Color(0.05f, 0.04f, 0.03f);
-    texels[bright_row * w + 5] = Color(50.0f);
-    return std::make_shared<const EnvironmentMap>(w, h, texels, rotate, 1.5f);
+std::shared_ptr<const EnvironmentMap> test_map(float rotate) {
+    return test::structured_environment_map(rotate, 3, 50.0f, 1.5f);
 }
-
 }  // namespace
 
 TEST(Lights, EnvironmentMapDirectionsMatchTheirDensity) {

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <vector>
 
+#include "lights/environment.h"
 #include "sampling/rng.h"
 #include "sampling/sampling.h"
 #include "scene/scene.h"
@@ -109,6 +111,22 @@ inline uint32_t add_diffuse(Scene& scene, const Color& albedo) {
     m.type = MaterialType::Diffuse;
     m.albedo.value = albedo;
     return scene.add_material(m);
+}
+
+// A small environment map with structure, for the map tests: a sky gradient over a dark ground
+// (16 x 8 texels) and one bright texel at (5, bright_row).
+inline std::shared_ptr<const EnvironmentMap> structured_environment_map(float rotate,
+                                                                        int bright_row,
+                                                                        float bright,
+                                                                        float strength) {
+    const int w = 16, h = 8;
+    std::vector<Color> texels(w * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+            texels[j * w + i] = j < h / 2 ? Color(0.2f + 0.1f * j, 0.3f, 0.5f + 0.05f * i)
+                                          : Color(0.05f, 0.04f, 0.03f);
+    texels[bright_row * w + 5] = Color(bright);
+    return std::make_shared<const EnvironmentMap>(w, h, texels, rotate, strength);
 }
 
 }  // namespace lessons::test
