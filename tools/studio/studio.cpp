@@ -16,6 +16,7 @@
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/report.h"
+#include "io/scene_file.h"
 #include "lights/lights.h"
 #include "materials/bsdf.h"
 #include "sampling/rng.h"
@@ -96,6 +97,50 @@ uint64_t file_hash(const std::string& path) {
     return h;
 }
 
+// The files a scene is made of: the scene file and every mesh, texture and map it names.
+std::vector<std::string> scene_inputs(const std::string& scene) {
+    std::vector<std::string> files{scene};
+    try {
+        const SceneDescription d = parse_scene_file(scene);
+        for (const ShapeDescription& s : d.shapes)
+            if (!s.file.empty()) files.push_back(s.file);
+        for (const MaterialDescription& m : d.materials)
+            if (!m.material.albedo.image_file.empty())
+                files.push_back(m.material.albedo.image_file);
+        if (!d.background_map.empty()) files.push_back(d.background_map);
+    } catch (const std::exception&) {
+        // (A scene that does not parse renders nothing; the scene file alone names it.)
+    }
+    return files;
+}
+
+// What a cached reference depends on: the scene file's bytes, and the size and time of every
+// file it names (an OBJ's MTL and map_Kd images are not followed).
+uint64_t inputs_hash(const std::string& scene) {
+    uint64_t h = file_hash(scene);
+    for (const std::string& f : scene_inputs(scene)) {
+        std::error_code ec;
+        const auto size = fs::file_size(f, ec);
+        const auto time = fs::last_write_time(f, ec).time_since_epoch().count();
+        for (const uint64_t v : {static_cast<uint64_t>(size), static_cast<uint64_t>(time)}) {
+            h ^= v;
+            h *= 1099511628211ull;
+        }
+    }
+    return h;
+}
+
+// The newest modification among a scene's files: a reference older than it is stale.
+fs::file_time_type newest_input(const std::string& scene) {
+    fs::file_time_type newest = fs::file_time_type::min();
+    for (const std::string& f : scene_inputs(scene)) {
+        std::error_code ec;
+        const fs::file_time_type t = fs::last_write_time(f, ec);
+        if (!ec && t > newest) newest = t;
+    }
+    return newest;
+}
+
 std::vector<OptionInfo> lesson_options(const Lesson& lesson) {
     CLI::App app;
     if (lesson.add_options) lesson.add_options(app);
@@ -163,8 +208,8 @@ std::optional<FoundReference> read_reference_file(const fs::path& exr, const fs:
                                                   const std::string& source) {
     std::error_code ec;
     if (!fs::is_regular_file(exr, ec)) return std::nullopt;
-    // Older than the scene file: rendered from another version of it.
-    if (fs::last_write_time(exr, ec) < fs::last_write_time(scene, ec)) return std::nullopt;
+    // Older than the scene file or a file it names: rendered from another version of them.
+    if (fs::last_write_time(exr, ec) < newest_input(scene)) return std::nullopt;
     try {
         auto image = std::make_shared<Image>(read_exr(exr.string()));
         if (image->width != width || image->height != height) return std::nullopt;
@@ -186,7 +231,7 @@ std::string cache_stem(const std::string& cache, const SceneEntry& scene, int wi
     if (albedo >= 0.0f) name += "_albedo" + std::to_string(albedo);
     char buf[64];
     std::snprintf(buf, sizeof buf, "_%dx%d_%dspp_%016llx", width, height, spp,
-                  static_cast<unsigned long long>(file_hash(scene.path)));
+                  static_cast<unsigned long long>(inputs_hash(scene.path)));
     return (fs::path(cache) / (name + buf)).string();
 }
 
