@@ -11,7 +11,7 @@ cmake -S "$ROOT" -B "$SAN" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILE
     -DLESSONS_SANITIZE=ON -DLESSONS_FUZZ=ON > /dev/null
 cmake --build "$SAN" --parallel "$(nproc)"
 cd "$SAN"
-for target in scene obj; do
+for target in scene obj part; do
     corpus="$(mktemp -d)"
     echo "fuzz_$target: ${FUZZ_SECONDS:-60} s from tests/fuzz/corpus_$target"
     "./bin/fuzz_$target" -max_total_time="${FUZZ_SECONDS:-60}" -timeout=10 -rss_limit_mb=4096 \

@@ -11,6 +11,7 @@ PACKAGES=(
     cmake g++ make pkg-config
     libglm-dev libstb-dev libtinyobjloader-dev libgtest-dev
     libtomlplusplus-dev libcli11-dev libtinyexr-dev libcpp-httplib-dev
+    parallel
 )
 
 install_missing_packages() {

@@ -53,4 +53,18 @@ std::string read_input_file(const std::string& path, const std::string& what, ui
     return bytes;
 }
 
+uint64_t file_hash(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return 0;
+    uint64_t h = 1469598103934665603ull;
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+        for (std::streamsize i = 0; i < in.gcount(); ++i) {
+            h ^= static_cast<unsigned char>(buffer[i]);
+            h *= 1099511628211ull;
+        }
+    }
+    return h;
+}
+
 }  // namespace lessons

@@ -20,6 +20,8 @@ struct InputLimits {
 // ("scene file", "OBJ file") and `flag` the option that raises the cap. Returns its size.
 uint64_t check_input_file(const std::string& path, const std::string& what, uint64_t max_bytes,
                           const std::string& flag);
+// 64-bit FNV-1a of a file's bytes (0 if it cannot be read): names what a file holds.
+uint64_t file_hash(const std::string& path);
 // The same, then the whole file's bytes.
 std::string read_input_file(const std::string& path, const std::string& what, uint64_t max_bytes,
                             const std::string& flag);

@@ -535,6 +535,16 @@ SceneDescription parse_scene_string(const std::string& text, const std::string& 
     return parse_table(root, name);
 }
 
+std::vector<std::string> scene_input_files(const SceneDescription& d) {
+    std::vector<std::string> files{d.file};
+    for (const ShapeDescription& s : d.shapes)
+        if (!s.file.empty()) files.push_back(s.file);
+    for (const MaterialDescription& m : d.materials)
+        if (!m.material.albedo.image_file.empty()) files.push_back(m.material.albedo.image_file);
+    if (!d.background_map.empty()) files.push_back(d.background_map);
+    return files;
+}
+
 SceneDescription parse_scene_file(const std::string& path, const InputLimits& limits) {
     return parse_scene_string(
         read_input_file(path, "scene file", limits.scene_bytes(), "--max-scene-mb"), path);

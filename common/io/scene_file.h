@@ -88,6 +88,10 @@ std::array<Quad, 6> box_faces(const ShapeDescription& box);
 SceneDescription parse_scene_file(const std::string& path, const InputLimits& limits = {});
 SceneDescription parse_scene_string(const std::string& toml_text, const std::string& name);
 
+// The files a scene is made of: its scene file, then every mesh, texture and map it names (an
+// OBJ's MTL file and the images the MTL names are not followed).
+std::vector<std::string> scene_input_files(const SceneDescription& scene);
+
 struct BuildOptions {
     BuildOptions(int w = 0, int h = 0, InputLimits l = {}) : width(w), height(h), limits(l) {}
     int width = 0, height = 0;  // override the file's image size when > 0

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include "io/input_error.h"
 #include "io/report.h"
 #include "io/scene_file.h"
+#include "render/part.h"
 
 namespace lessons {
 
@@ -32,6 +34,13 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "default out/<lesson>_<scene>");
     app.add_option("--spp", o.spp, "Samples per pixel (default: the lesson's)")
         ->check(CLI::Range(1, 1 << 24));
+    app.add_option("--samples", o.samples,
+                   "A part of a render split across jobs (docs/farm.md): render sample indices "
+                   "A .. B-1 of every pixel (--spp N is --samples 0:N) and write a part EXR, "
+                   "which build/bin/merge joins with the others");
+    app.add_option("--pixels", o.pixels,
+                   "A part that is a crop X0:X1,Y0:Y1 of the image (pixels X0 .. X1-1 and "
+                   "Y0 .. Y1-1, in the whole image's coordinates), written as a part EXR");
     app.add_option("--width", o.width, "Image width in pixels, overriding the scene")
         ->check(CLI::Range(1, kMaxImageSide));
     app.add_option("--height", o.height, "Image height in pixels, overriding the scene")
@@ -93,9 +102,9 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
 
 // Refuses an image whose buffers would not fit in memory, before any work is done.
 void check_memory(int width, int height) {
-    // Film (two double triples and counts), the mean and variance images and their copies in
-    // the result, the PNG bytes: 128 bytes per pixel is a safe upper bound.
-    const double bytes_per_pixel = 128.0;
+    // The film (FilmPixel, 96 bytes), the mean and variance images and their copies in the
+    // result, the PNG bytes: 160 bytes per pixel is a safe upper bound.
+    const double bytes_per_pixel = 160.0;
     const double need = bytes_per_pixel * width * height;
     const double physical =
         static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
@@ -107,6 +116,48 @@ void check_memory(int width, int height) {
                       width, height, need / (1 << 30), physical / (1 << 30));
         throw InputError("command line", 0, "--width/--height", msg);
     }
+}
+
+// "A:B" with 0 <= A < B <= limit, or throws naming `flag`.
+void parse_range(const std::string& text, const std::string& flag, long long limit,
+                 int& begin, int& end, const std::string& what) {
+    long long a = 0, b = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%lld:%lld%c", &a, &b, &tail) != 2 || a < 0 || b <= a ||
+        b > limit)
+        throw InputError("command line", 0, flag,
+                         "'" + text + "' is not " + what + " A:B with 0 <= A < B <= " +
+                             std::to_string(limit));
+    begin = static_cast<int>(a);
+    end = static_cast<int>(b);
+}
+
+// --samples and --pixels into o.part (and --samples A:B into o.spp = B - A).
+void parse_part_options(const CLI::App& app, CommonOptions& o) {
+    if (!o.is_part()) return;
+    if (app.count("--spp") > 0 && !o.samples.empty())
+        throw InputError("command line", 0, "--samples",
+                         "give --spp or --samples, not both (--spp N is --samples 0:N)");
+    if (o.time_budget > 0.0)
+        throw InputError("command line", 0, "--time",
+                         "a part renders a given range of samples (--samples A:B), not for a time");
+    if (!o.samples.empty()) {
+        int a = 0, b = 0;
+        parse_range(o.samples, "--samples", 1 << 24, a, b, "a range of sample indices");
+        o.part.first_sample = a;
+        o.spp = b - a;
+    }
+    if (!o.pixels.empty()) {
+        const size_t comma = o.pixels.find(',');
+        if (comma == std::string::npos)
+            throw InputError("command line", 0, "--pixels",
+                             "'" + o.pixels + "' is not a crop X0:X1,Y0:Y1");
+        parse_range(o.pixels.substr(0, comma), "--pixels", kMaxImageSide, o.part.x0, o.part.x1,
+                    "a crop X0:X1,Y0:Y1 whose columns are");
+        parse_range(o.pixels.substr(comma + 1), "--pixels", kMaxImageSide, o.part.y0, o.part.y1,
+                    "a crop X0:X1,Y0:Y1 whose rows are");
+    }
+    o.part.whole_batches = true;
 }
 
 std::string default_out(const Lesson& lesson, const std::string& scene_path) {
@@ -207,7 +258,21 @@ Image read_reference(const CommonOptions& o, const Scene& scene) {
                              std::to_string(reference.height) + ", the render is " +
                              std::to_string(scene.width) + "x" + std::to_string(scene.height) +
                              " (use --width/--height)");
-    return reference;
+    if (o.part.x1 == 0) return reference;
+    // A crop is measured against the same crop of the reference.
+    Image crop(o.part.x1 - o.part.x0, o.part.y1 - o.part.y0);
+    for (int y = 0; y < crop.height; ++y)
+        for (int x = 0; x < crop.width; ++x) crop.at(x, y) = reference.at(o.part.x0 + x, o.part.y0 + y);
+    return crop;
+}
+
+// --pixels must lie in the image (its size is known once the scene is read).
+void check_part(const CommonOptions& o, const Scene& scene) {
+    if (o.part.x1 == 0) return;
+    if (o.part.x1 > scene.width || o.part.y1 > scene.height)
+        throw InputError("command line", 0, "--pixels",
+                         "'" + o.pixels + "' reaches outside the " + std::to_string(scene.width) +
+                             "x" + std::to_string(scene.height) + " image");
 }
 
 // --albedo: every diffuse reflectance (of diffuse and glossy materials) becomes grey `rho`.
@@ -252,6 +317,8 @@ RunResult render_run(const CommonOptions& o, const RunInputs& in) {
     install_stop_handlers();
     RunResult run;
     ProgressivePlan plan;
+    plan.part = o.part;
+    plan.keep_films = o.is_part();
     plan.spp = o.spp;
     plan.time_budget = o.time_budget;
     if (!o.reference.empty()) {
@@ -272,19 +339,7 @@ RunResult render_run(const CommonOptions& o, const RunInputs& in) {
 
 // Each layer's share of the image's total luminance, as a printable line.
 std::vector<std::string> layer_shares(const RenderResult& r, const Model& model) {
-    std::vector<std::string> shares;
-    double total_luminance = 0.0;
-    for (const Color& c : r.image.pixels) total_luminance += luminance(c);
-    for (size_t k = 0; k < r.layers.size(); ++k) {
-        double layer_luminance = 0.0;
-        for (const Color& c : r.layers[k].pixels) layer_luminance += luminance(c);
-        const double share = total_luminance > 0.0 ? layer_luminance / total_luminance : 0.0;
-        char line[160];
-        std::snprintf(line, sizeof line, "%s: %.2f%% of the image's energy",
-                      model.layer_names[k].c_str(), 100.0 * share);
-        shares.push_back(line);
-    }
-    return shares;
+    return lessons::layer_shares(r.image, r.layers, model.layer_names);
 }
 
 // ---- 5. Writing ----
@@ -301,9 +356,49 @@ void write_convergence_csv(const std::string& path, const std::vector<Checkpoint
     });
 }
 
-// The EXR and PNG of the image and of every layer, the variance and the convergence CSV.
-void write_images(const CommonOptions& o, const Model& model, const RunResult& run) {
+// A part's header: where it belongs, and what it holds.
+PartHeader part_header(const Lesson& lesson, const CommonOptions& o, const RunInputs& in,
+                       const RunResult& run) {
+    PartHeader h;
+    h.lesson = lesson.name;
+    h.scene = o.scene;
+    h.scene_hash = scene_files_hash(o.scene);
+    h.options = o.image_options;
+    h.seed = o.seed;
+    h.image_width = in.scene.width;
+    h.image_height = in.scene.height;
+    const bool crop = o.part.x1 > 0;
+    h.x0 = crop ? o.part.x0 : 0;
+    h.y0 = crop ? o.part.y0 : 0;
+    h.x1 = crop ? o.part.x1 : in.scene.width;
+    h.y1 = crop ? o.part.y1 : in.scene.height;
+    h.sample_begin = o.part.first_sample;
+    h.sample_end = o.part.first_sample + run.spp_taken;
+    h.planned_end = o.part.first_sample + o.spp;
+    h.films.push_back("image");
+    for (const std::string& name : in.model.layer_names) h.films.push_back(name);
+    h.seconds = run.render.stats.seconds;
+    h.rays = run.render.stats.rays;
+    h.threads = resolve_thread_count(o.threads);
+    h.exposure = o.exposure;
+    h.notes = in.model.notes;
+    h.bias = run_bias(o, in);
+    return h;
+}
+
+// The EXR and PNG of the image and of every layer, the variance and the convergence CSV; a part
+// writes its part EXR and the PNG of what it holds.
+void write_images(const Lesson& lesson, const CommonOptions& o, const RunInputs& in,
+                  const RunResult& run) {
+    const Model& model = in.model;
     const RenderResult& r = run.render;
+    if (o.is_part()) {
+        write_part(o.out + ".exr", part_header(lesson, o, in, run), r.films);
+        if (!o.variance.empty()) write_exr(r.variance, o.variance + ".exr");
+        if (!o.convergence.empty()) write_convergence_csv(o.convergence, run.checkpoints);
+        write_png(r.image, o.out + ".png", o.exposure);
+        return;
+    }
     write_exr(r.image, o.out + ".exr");
     if (!o.variance.empty()) write_exr(r.variance, o.variance + ".exr");
     if (!o.convergence.empty()) write_convergence_csv(o.convergence, run.checkpoints);
@@ -328,6 +423,12 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
     report.set("width", in.scene.width);
     report.set("height", in.scene.height);
     report.set("spp", run.spp_taken);
+    if (o.is_part()) {
+        report.set("samples", std::to_string(o.part.first_sample) + ":" +
+                                  std::to_string(o.part.first_sample + run.spp_taken));
+        if (o.part.x1 > 0) report.set("pixels", o.pixels);
+        report.set("part", true);
+    }
     report.set("firefly_pixels", r.firefly_pixels);
     const std::vector<std::string> bias = run_bias(o, in);
     report.set("biased", !bias.empty());
@@ -384,7 +485,35 @@ void parse_lesson_arguments(const std::vector<std::string>& args, const Lesson& 
         throw InputError("command line", 0, "", e.what());
     }
     if (o.spp <= 0) o.spp = lesson.default_spp;
+    parse_part_options(app, o);
     if (o.out.empty()) o.out = default_out(lesson, o.scene);
+    o.image_options = image_options(app);
+}
+
+std::string image_options(const CLI::App& app) {
+    // What only places, names, shows, measures or speeds up the render; and the scene, the seed
+    // and the image size, which a part's header keeps on their own.
+    static const char* const kApart[] = {
+        "--help",   "--scene",   "--out",         "--spp",          "--samples",
+        "--pixels", "--width",   "--height",      "--threads",      "--seed",
+        "--report", "--exposure", "--quiet",      "--reference",    "--time",
+        "--convergence", "--variance", "--max-scene-mb", "--max-file-mb"};
+    std::vector<std::string> lines;
+    for (const CLI::Option* opt : app.get_options()) {
+        const std::string name = opt->get_name();
+        if (std::find(std::begin(kApart), std::end(kApart), name) != std::end(kApart)) continue;
+        std::string value;
+        if (opt->count() > 0) {
+            for (const std::string& r : opt->results()) value += (value.empty() ? "" : ",") + r;
+        } else {
+            value = opt->get_default_str();
+        }
+        lines.push_back(name + "=" + value);
+    }
+    std::sort(lines.begin(), lines.end());
+    std::string text;
+    for (const std::string& l : lines) text += (text.empty() ? "" : "\n") + l;
+    return text;
 }
 
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
@@ -392,8 +521,14 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     check_memory(in.scene.width, in.scene.height);
     apply_naive_methods(o.naive, in.scene.naive);
     apply_albedo(o.albedo, in.scene);
+    check_part(o, in.scene);
     in.reference = read_reference(o, in.scene);
     in.model = lesson.make_model(in.scene);
+    if (in.model.splatting && o.part.crops(in.scene))
+        throw InputError("command line", 0, "--pixels",
+                         lesson.name + " splats light from every pixel's light subpath onto "
+                                       "pixels anywhere in the image, so a crop cannot hold its "
+                                       "part: split it by --samples only");
     if (o.albedo >= 0.0f)
         in.model.notes.push_back("--albedo: every diffuse reflectance is grey " +
                                  std::to_string(o.albedo) + " (the scene's own are ignored)");
@@ -466,7 +601,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
         status = 130;  // 128 + SIGINT, as a shell reports an interrupted command
     }
     try {
-        write_images(o, in.model, run);
+        write_images(lesson, o, in, run);
     } catch (const std::exception& e) {
         std::cerr << lesson.name << ": error: " << e.what() << "\n";
         if (status == 0) status = 1;

@@ -48,6 +48,14 @@ struct CommonOptions {
     std::string sampler = "independent";  // or "kronecker" (RenderSettings::kronecker)
     float albedo = -1.0f;  // >= 0: every diffuse reflectance becomes this grey (the furnace demo)
     InputLimits limits;    // the largest scene file and mesh files read (--max-scene-mb, ...)
+    // A part of a render split across jobs (docs/farm.md): --samples A:B and --pixels
+    // X0:X1,Y0:Y1 as given, and parsed (the crop is checked against the image by prepare_run).
+    std::string samples, pixels;
+    RenderPart part;
+    bool is_part() const { return !samples.empty() || !pixels.empty(); }
+    // The options that change the image (not the scene, seed and size, kept apart), one
+    // "--flag=value" per line: parts with different ones do not merge.
+    std::string image_options;
 };
 
 // The steps of run_lesson, for every front end that runs lessons (the command line, the studio).
@@ -74,7 +82,11 @@ std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in);
 // The render loop's settings for these options (no stop flag, no progress display).
 RenderSettings render_settings(const CommonOptions& o);
 
-// Parses the command line, renders, writes <out>.exr, <out>.png and the report.
+// The options of a parsed command line that change the image, as CommonOptions::image_options.
+std::string image_options(const CLI::App& app);
+
+// Parses the command line, renders, writes <out>.exr, <out>.png and the report (a part, with
+// --samples or --pixels, writes its part EXR instead: render/part.h).
 // Exit codes: 0 done; 1 a failure while writing output; 2 bad input (command line, scene file,
 // mesh), reported on one line naming the file, line and field.
 int run_lesson(int argc, char** argv, const Lesson& lesson);

@@ -1,6 +1,8 @@
 // Error metrics of an image against a reference (see metrics.h).
 #include "render/metrics.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 
@@ -78,6 +80,23 @@ double error_map_scale(const std::vector<float>& errors) {
     const double scale =
         sorted.empty() ? 1.0 : sorted[static_cast<size_t>(0.99 * (sorted.size() - 1))];
     return scale > 0.0 ? scale : 1.0;
+}
+
+std::vector<std::string> layer_shares(const Image& image, const std::vector<Image>& layers,
+                                      const std::vector<std::string>& names) {
+    std::vector<std::string> shares;
+    double total_luminance = 0.0;
+    for (const Color& c : image.pixels) total_luminance += luminance(c);
+    for (size_t k = 0; k < layers.size(); ++k) {
+        double layer_luminance = 0.0;
+        for (const Color& c : layers[k].pixels) layer_luminance += luminance(c);
+        const double share = total_luminance > 0.0 ? layer_luminance / total_luminance : 0.0;
+        char line[160];
+        std::snprintf(line, sizeof line, "%s: %.2f%% of the image's energy", names[k].c_str(),
+                      100.0 * share);
+        shares.push_back(line);
+    }
+    return shares;
 }
 
 }  // namespace lessons

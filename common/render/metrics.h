@@ -27,6 +27,11 @@ struct ErrorMetrics {
 ErrorMetrics compare_images(const Image& image, const Image& reference,
                             const std::string& what = "image");
 
+// Each layer's share of the image's total luminance, as printable lines "NAME: P% of the
+// image's energy" (the series of lesson 4, the strategies of lesson 5).
+std::vector<std::string> layer_shares(const Image& image, const std::vector<Image>& layers,
+                                      const std::vector<std::string>& names);
+
 // The per-pixel error |image - reference|, RMS over the channels (error maps).
 std::vector<float> pixel_errors(const Image& image, const Image& reference);
 // The top of an error map's colour scale: the 99th percentile of the errors (1 if that is 0).

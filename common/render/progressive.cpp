@@ -14,29 +14,66 @@ RenderResult render_scene(const Scene& scene, const Model& model, int spp,
     return render_progressive(scene, model, plan, settings, nullptr);
 }
 
-ProgressiveFilms::ProgressiveFilms(const Scene& scene, const Model& model, float clamp)
-    : scene_(scene), model_(model), films_(1 + model.layer_names.size(), Film(scene.width, scene.height)) {
+namespace {
+
+int part_width(const Scene& scene, const RenderPart& part) {
+    return part.x1 > 0 ? part.x1 - part.x0 : scene.width;
+}
+int part_height(const Scene& scene, const RenderPart& part) {
+    return part.x1 > 0 ? part.y1 - part.y0 : scene.height;
+}
+
+}  // namespace
+
+ProgressiveFilms::ProgressiveFilms(const Scene& scene, const Model& model, float clamp,
+                                   const RenderPart& part)
+    : scene_(scene),
+      model_(model),
+      part_(part),
+      films_(1 + model.layer_names.size(),
+             Film(part_width(scene, part), part_height(scene, part))) {
     if (clamp > 0.0f) films_[0].set_clamp(clamp);
 }
 
-bool ProgressiveFilms::render_to(int end, const RenderSettings& settings) {
-    RenderStats s;
+RenderStats ProgressiveFilms::render_into(std::vector<Film>& films, int end,
+                                          const RenderSettings& settings) {
+    RenderSettings s = settings;
+    if (part_.x1 > 0) {
+        s.image_width = scene_.width;
+        s.image_height = scene_.height;
+        s.crop_x = part_.x0;
+        s.crop_y = part_.y0;
+    }
+    const int begin = part_.first_sample + done_, stop = part_.first_sample + end;
     if (model_.splatting)
-        s = render_splatting(scene_.camera, films_, settings, model_.splatting, done_, end);
-    else if (model_.layer_names.empty())
-        s = render(scene_.camera, films_[0], settings, model_.radiance, done_, end);
-    else
-        s = render_layers(scene_.camera, films_, settings, model_.layered, done_, end);
+        return render_splatting(scene_.camera, films, s, model_.splatting, begin, stop);
+    if (model_.layer_names.empty())
+        return render(scene_.camera, films[0], s, model_.radiance, begin, stop);
+    return render_layers(scene_.camera, films, s, model_.layered, begin, stop);
+}
+
+bool ProgressiveFilms::render_to(int end, const RenderSettings& settings) {
+    // A splatting model adds whole passes only; others, with whole_batches, render the batch
+    // into films of its own that join these only when it is complete.
+    const bool apart = part_.whole_batches && !model_.splatting;
+    if (apart) {
+        if (batch_.empty()) batch_ = films_;
+        for (Film& f : batch_) f.clear();
+    }
+    const RenderStats s = render_into(apart ? batch_ : films_, end, settings);
     total_.seconds += s.seconds;
     total_.rays += s.rays;
     total_.splat_bytes = std::max(total_.splat_bytes, s.splat_bytes);
     if (s.stopped) {
         // A splatting model keeps the passes it finished whole (render_splatting); elsewhere
-        // the finished tiles of the batch count, but not as whole samples.
+        // the finished tiles of the batch count, but not as whole samples (unless apart: then
+        // the batch is dropped).
         if (model_.splatting) done_ += s.complete_passes;
         interrupted_ = true;
         return false;
     }
+    if (apart)
+        for (size_t k = 0; k < films_.size(); ++k) films_[k].add(batch_[k]);
     done_ = end;
     return true;
 }
@@ -68,7 +105,7 @@ namespace {
 // every pixel with at least the samples of the batches done. One progress display for all.
 void render_in_batches(ProgressiveFilms& passes, int spp, const RenderSettings& settings) {
     Progress progress("render",
-                      static_cast<uint64_t>(passes.scene().width) * passes.scene().height * spp,
+                      static_cast<uint64_t>(passes.films()[0].width()) * passes.films()[0].height() * spp,
                       settings.progress);
     RenderSettings batch_settings = settings;
     batch_settings.shared_progress = &progress;
@@ -104,7 +141,7 @@ void render_with_checkpoints(ProgressiveFilms& passes, const ProgressivePlan& pl
 
 RenderResult render_progressive(const Scene& scene, const Model& model, const ProgressivePlan& plan,
                                 const RenderSettings& settings, int* spp_taken) {
-    ProgressiveFilms passes(scene, model, settings.clamp);
+    ProgressiveFilms passes(scene, model, settings.clamp, plan.part);
     const bool checkpoints = plan.reference && plan.on_checkpoint;
     if (plan.time_budget > 0.0 || checkpoints)
         render_with_checkpoints(passes, plan, settings);
@@ -113,7 +150,9 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
     else
         passes.render_to(plan.spp, settings);  // one call: pixel by pixel, all samples at once
     if (spp_taken) *spp_taken = passes.samples();
-    return passes.result();
+    RenderResult r = passes.result();
+    if (plan.keep_films) r.films = passes.films();
+    return r;
 }
 
 }  // namespace lessons

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <exception>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -34,6 +35,24 @@ struct Tiles {
         for (int y = y0; y < y1; ++y)
             for (int x = x0; x < x1; ++x) pixel(x, y, static_cast<size_t>(y) * width + x);
         return static_cast<uint64_t>(x1 - x0) * (y1 - y0);
+    }
+};
+
+// Where the films lie in the whole image (RenderSettings::image_width).
+struct Window {
+    int image_width, image_height, x0, y0;
+    Window(const RenderSettings& s, const Film& film)
+        : image_width(s.image_width > 0 ? s.image_width : film.width()),
+          image_height(s.image_width > 0 ? s.image_height : film.height()),
+          x0(s.image_width > 0 ? s.crop_x : 0),
+          y0(s.image_width > 0 ? s.crop_y : 0) {
+        if (x0 < 0 || y0 < 0 || x0 + film.width() > image_width ||
+            y0 + film.height() > image_height)
+            throw std::logic_error("render: the crop lies outside the image");
+    }
+    // The index of film pixel (x, y) in the whole image: its random numbers' key.
+    size_t image_index(int x, int y) const {
+        return static_cast<size_t>(y0 + y) * image_width + (x0 + x);
     }
 };
 
@@ -83,12 +102,13 @@ Rng sample_rng(const RenderSettings& settings, size_t pixel, int s) {
                               : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
 }
 
-// The camera ray through pixel (x, y), placed in it by the sample's first two numbers.
-Ray camera_ray(const Camera& camera, const RenderSettings& settings, int x, int y, int width,
-               int height, Rng& rng) {
+// The camera ray through film pixel (x, y), placed in it by the sample's first two numbers.
+Ray camera_ray(const Camera& camera, const RenderSettings& settings, const Window& window, int x,
+               int y, Rng& rng) {
     const float jx = settings.jitter ? rng.uniform() : 0.5f;
     const float jy = settings.jitter ? rng.uniform() : 0.5f;
-    return camera.generate_ray(x + jx, y + jy, width, height);
+    return camera.generate_ray(window.x0 + x + jx, window.y0 + y + jy, window.image_width,
+                               window.image_height);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -115,6 +135,7 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
                           int sample_begin, int sample_end) {
     const auto start = std::chrono::steady_clock::now();
     const Tiles tiles(films[0].width(), films[0].height());
+    const Window window(settings, films[0]);
     const size_t layer_count = films.size() - 1;
     const int samples = std::max(0, sample_end - sample_begin);
     Progress own_progress("render", static_cast<uint64_t>(tiles.width) * tiles.height * samples,
@@ -125,8 +146,8 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
         std::vector<Color> layers(layer_count);
         const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
             for (int s = sample_begin; s < sample_end; ++s) {
-                Rng rng = sample_rng(settings, pixel, s);
-                const Ray ray = camera_ray(camera, settings, x, y, tiles.width, tiles.height, rng);
+                Rng rng = sample_rng(settings, window.image_index(x, y), s);
+                const Ray ray = camera_ray(camera, settings, window, x, y, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
                 const Color value = radiance(ray, rng, layers);
                 films[0].add_sample(pixel, value);
@@ -150,6 +171,10 @@ RenderStats render_splatting(const Camera& camera, std::span<Film> films,
                              int sample_begin, int sample_end) {
     const auto start = std::chrono::steady_clock::now();
     const Tiles tiles(films[0].width(), films[0].height());
+    if (settings.image_width > 0 &&
+        (settings.image_width != tiles.width || settings.image_height != tiles.height))
+        throw std::logic_error("render_splatting: splats land anywhere, so it takes no crop");
+    const Window window(settings, films[0]);
     const size_t pixel_count = static_cast<size_t>(tiles.width) * tiles.height;
     const size_t layer_count = films.size() - 1;
     const int samples = std::max(0, sample_end - sample_begin);
@@ -168,7 +193,7 @@ RenderStats render_splatting(const Camera& camera, std::span<Film> films,
             splats.clear();
             const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
                 Rng rng = sample_rng(settings, pixel, s);
-                const Ray ray = camera_ray(camera, settings, x, y, tiles.width, tiles.height, rng);
+                const Ray ray = camera_ray(camera, settings, window, x, y, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
                 pass[0][pixel] = radiance(ray, rng, layers, splats);
                 for (size_t k = 0; k < layer_count; ++k) pass[1 + k][pixel] = layers[k];

@@ -1,9 +1,10 @@
 // The render loop: every pixel sample through a lesson's radiance function, on all cores.
 //
 // The image is cut into 16x16 tiles that worker threads take in turn. Each pixel sample k of
-// pixel i draws its random numbers from Rng(seed, i, k), and a pixel's samples are always added
-// in the order k = 0, 1, 2, ..., by whichever thread holds its tile; so the image is bit for bit
-// the same for any number of threads, and for any split of the samples into passes.
+// pixel i draws its random numbers from Rng(seed, i, k), and the film's sums do not depend on
+// the order samples are added in (film.h); so the image is bit for bit the same for any number
+// of threads, for any split of the samples into passes, and for any split of the image into
+// crops rendered apart (RenderSettings::image_width).
 //
 // Splatting models (lesson 5's light paths) also add light to pixels other than their own.
 // They are rendered one pass per sample index k: each tile keeps its own list of splats, and
@@ -59,6 +60,12 @@ struct RenderSettings {
     bool kronecker = false;  // samples from Rng::kronecker (stratified) instead of independent
     // Progress shared by several render calls (passes of one render); else each call has its own.
     Progress* shared_progress = nullptr;
+    // A crop (--pixels): the films hold pixels [crop_x, crop_x + film width) x [crop_y, ...) of
+    // an image_width x image_height image. Each pixel is rendered as in the whole image (its
+    // camera ray and its random numbers are those of its place in the whole image).
+    // image_width == 0: the films are the whole image. Splatting models take no crop.
+    int image_width = 0, image_height = 0;
+    int crop_x = 0, crop_y = 0;
 };
 
 struct RenderStats {

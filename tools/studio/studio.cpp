@@ -15,6 +15,7 @@
 #include "all_lessons.h"
 #include "io/image.h"
 #include "io/input_error.h"
+#include "io/input_file.h"
 #include "io/report.h"
 #include "io/scene_file.h"
 #include "lights/lights.h"
@@ -86,32 +87,14 @@ std::string scene_description(const std::string& path) {
     return "";
 }
 
-// 64-bit FNV-1a of a file's bytes: names the studio's cached references.
-uint64_t file_hash(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    uint64_t h = 1469598103934665603ull;
-    for (char c; in.get(c);) {
-        h ^= static_cast<unsigned char>(c);
-        h *= 1099511628211ull;
-    }
-    return h;
-}
-
 // The files a scene is made of: the scene file and every mesh, texture and map it names.
 std::vector<std::string> scene_inputs(const std::string& scene) {
-    std::vector<std::string> files{scene};
     try {
-        const SceneDescription d = parse_scene_file(scene);
-        for (const ShapeDescription& s : d.shapes)
-            if (!s.file.empty()) files.push_back(s.file);
-        for (const MaterialDescription& m : d.materials)
-            if (!m.material.albedo.image_file.empty())
-                files.push_back(m.material.albedo.image_file);
-        if (!d.background_map.empty()) files.push_back(d.background_map);
+        return scene_input_files(parse_scene_file(scene));
     } catch (const std::exception&) {
         // (A scene that does not parse renders nothing; the scene file alone names it.)
+        return {scene};
     }
-    return files;
 }
 
 // What a cached reference depends on: the scene file's bytes, and the size and time of every
@@ -695,10 +678,11 @@ void Studio::publish(PaneState& job, const std::shared_ptr<Snapshot>& snapshot, 
 }
 
 void Studio::check_memory_budget(const RunInputs& in) const {
-    // Per pixel and film (the image and each layer): the film's sums (Film::Pixel, 80 bytes),
+    // Per pixel and film (the image and each layer): the film's sums (FilmPixel),
     // and the snapshot's mean and variance images, twice (the one shown, the one being made).
     const double films = 1.0 + static_cast<double>(in.model.layer_names.size());
-    const double bytes = films * in.scene.width * in.scene.height * (80.0 + 2.0 * 24.0);
+    const double bytes =
+        films * in.scene.width * in.scene.height * (sizeof(FilmPixel) + 2.0 * 24.0);
     if (bytes > limits_.memory_mb * 1048576.0) {
         char msg[240];
         std::snprintf(msg, sizeof msg,

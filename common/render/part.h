@@ -1,0 +1,61 @@
+// A part of a render split across jobs (docs/farm.md): a crop of the image and a range of
+// sample indices, saved as an EXR that a merge joins back, exactly, into the whole render.
+//
+// The EXR shows the part's mean image (R, G, B) to any viewer, and carries what a merge needs:
+// in its header, as string attributes "lessons.*", where the part belongs (lesson, scene and
+// the hash of its files, image size, crop, samples, seed, the options that change the image);
+// and in channels of 32-bit unsigned integers, every film's exact per-pixel state (FilmPixel):
+// the 128-bit sums as four words per colour, the sums of squares as the two words of a double,
+// and the counts. A checksum over all of it refuses a damaged or truncated file.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "render/film.h"
+
+namespace lessons {
+
+struct PartHeader {
+    std::string lesson;      // e.g. "04_rendering_equation"
+    std::string scene;       // the scene file, as the command line named it
+    std::string scene_hash;  // 16 hex digits: FNV-1a of the scene file and every file it names
+    std::string options;     // the options that change the image, one "--flag=value" per line
+    uint64_t seed = 0;
+    int image_width = 0, image_height = 0;
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;    // the crop: pixels [x0, x1) x [y0, y1)
+    int sample_begin = 0, sample_end = 0;  // the samples every pixel holds: [begin, end)
+    int planned_end = 0;                   // the end the run was asked for
+    std::vector<std::string> films;        // "image", then the layers' names
+    double seconds = 0.0;                  // rendering time
+    uint64_t rays = 0;
+    int threads = 0;
+    float exposure = 0.0f;  // of the PNG
+    std::vector<std::string> notes, bias;
+
+    bool partial() const { return sample_end < planned_end; }  // interrupted
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    // "X0:X1,Y0:Y1" and "A:B", as the command line takes them.
+    std::string pixels_text() const;
+    std::string samples_text() const;
+};
+
+struct PartFile {
+    std::string path;
+    PartHeader header;
+    std::vector<Film> films;  // header.films.size() films of the crop's size
+};
+
+// Writes a part (atomically). Throws std::runtime_error on failure.
+void write_part(const std::string& path, const PartHeader& header, std::span<const Film> films);
+// Reads a part, or only its header (films left empty, the checksum not checked). Throws
+// InputError naming the file and the field for anything wrong with it.
+PartFile read_part(const std::string& path, bool with_pixels = true);
+
+// The hash of a scene's files (scene_input_files), as 16 hex digits.
+std::string scene_files_hash(const std::string& scene_file);
+
+}  // namespace lessons

@@ -1,0 +1,212 @@
+// The farm's core (docs/farm.md): film sums that do not depend on the order or the split of the
+// samples, parts saved and read back exactly, and what a set of parts covers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+#include "io/input_error.h"
+#include "io/scene_file.h"
+#include "ray_casting.h"
+#include "render/merge.h"
+#include "render/part.h"
+#include "render/render.h"
+
+using namespace lessons;
+
+namespace {
+
+bool same_pixel(const FilmPixel& a, const FilmPixel& b) {
+    return a.sum[0] == b.sum[0] && a.sum[1] == b.sum[1] && a.sum[2] == b.sum[2] &&
+           a.valid == b.valid && a.nan == b.nan && a.inf == b.inf && a.clamped == b.clamped &&
+           a.max_luminance == b.max_luminance;
+}
+
+// Samples over many orders of magnitude, some negative (a layer may be), some tiny.
+std::vector<Color> awkward_samples(int n, uint32_t seed) {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<float> exponent(-40.0f, 40.0f), sign(0.0f, 1.0f);
+    std::vector<Color> v;
+    for (int i = 0; i < n; ++i) {
+        Color c;
+        for (int k = 0; k < 3; ++k)
+            c[k] = (sign(gen) < 0.2f ? -1.0f : 1.0f) * std::exp2(exponent(gen));
+        v.push_back(c);
+    }
+    return v;
+}
+
+PartFile header_only(const std::string& name, int x0, int x1, int y0, int y1, int a, int b) {
+    PartFile p;
+    p.path = name;
+    p.header.image_width = 8;
+    p.header.image_height = 4;
+    p.header.x0 = x0;
+    p.header.x1 = x1;
+    p.header.y0 = y0;
+    p.header.y1 = y1;
+    p.header.sample_begin = a;
+    p.header.sample_end = b;
+    p.header.planned_end = b;
+    return p;
+}
+
+}  // namespace
+
+TEST(Farm, FilmSumsDoNotDependOnTheOrderOrTheSplitOfTheSamples) {
+    const std::vector<Color> samples = awkward_samples(1000, 7);
+    Film in_order(1, 1);
+    for (const Color& c : samples) in_order.add_sample(0, c);
+    std::vector<Color> shuffled = samples;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(3));
+    Film reversed(1, 1), merged(1, 1);
+    for (const Color& c : shuffled) reversed.add_sample(0, c);
+    for (int split : {0, 1, 333, 999}) {
+        Film a(1, 1), b(1, 1);
+        for (int i = 0; i < 1000; ++i) (i < split ? a : b).add_sample(0, shuffled[i]);
+        b.add(a);
+        EXPECT_TRUE(same_pixel(b.pixels()[0], in_order.pixels()[0])) << "split at " << split;
+        EXPECT_EQ(b.mean().pixels[0], in_order.mean().pixels[0]);
+    }
+    EXPECT_TRUE(same_pixel(reversed.pixels()[0], in_order.pixels()[0]));
+    EXPECT_EQ(reversed.mean().pixels[0], in_order.mean().pixels[0]);
+}
+
+TEST(Farm, FilmSumsAreExactWhereADoubleSumIsNot) {
+    // 2^40 + 2^-20 - 2^40: a double sum loses the small sample (it is below the double's
+    // resolution at 2^40, 2^-12); the fixed-point sum keeps it.
+    Film film(1, 1);
+    film.add_sample(0, Color(0x1p40f));
+    film.add_sample(0, Color(0x1p-20f));
+    film.add_sample(0, Color(-0x1p40f));
+    double d = 0x1p40;
+    d += 0x1p-20;
+    d -= 0x1p40;
+    EXPECT_EQ(d, 0.0);  // the double sum loses it
+    EXPECT_EQ(film.mean().pixels[0].x, static_cast<float>(0x1p-20 / 3.0));
+}
+
+TEST(Farm, ASampleTooLargeToSumExactlyIsCountedAsInfinite) {
+    Film film(1, 1);
+    film.add_sample(0, Color(1.0f));
+    film.add_sample(0, Color(0x1p54f, 0.0f, 0.0f));
+    film.add_sample(0, Color(0x1p53f));
+    EXPECT_EQ(film.inf_samples(), 1u);
+    EXPECT_EQ(film.pixels()[0].valid, 2u);
+    EXPECT_EQ(film.mean().pixels[0].x, static_cast<float>((0x1p53 + 1.0) / 2.0));
+}
+
+TEST(Farm, CropsAndSampleRangesRenderedApartAddUpToTheWholeRender) {
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {24, 16});
+    const RadianceFn radiance = [&scene](const Ray& ray, Rng& rng) {
+        return ray_cast(scene, ray, {}) * (0.5f + rng.uniform());
+    };
+    RenderSettings settings;
+    settings.progress = false;
+    settings.seed = 5;
+    Film whole(24, 16);
+    render(scene.camera, whole, settings, radiance, 0, 6);
+    Film merged(24, 16);
+    for (const auto& [x0, x1, y0, y1] :
+         std::vector<std::array<int, 4>>{{0, 10, 0, 16}, {10, 24, 0, 5}, {10, 24, 5, 16}})
+        for (const auto& [a, b] : std::vector<std::pair<int, int>>{{0, 2}, {2, 6}}) {
+            Film crop(x1 - x0, y1 - y0);
+            RenderSettings s = settings;
+            s.image_width = 24;
+            s.image_height = 16;
+            s.crop_x = x0;
+            s.crop_y = y0;
+            render(scene.camera, crop, s, radiance, a, b);
+            merged.add_window(crop, x0, y0);
+        }
+    const Image w = whole.mean(), m = merged.mean();
+    for (size_t i = 0; i < w.pixels.size(); ++i) ASSERT_EQ(w.pixels[i], m.pixels[i]) << i;
+}
+
+TEST(Farm, APartIsReadBackExactly) {
+    Film image(5, 3), layer(5, 3);
+    const std::vector<Color> samples = awkward_samples(60, 11);
+    for (size_t i = 0; i < samples.size(); ++i) {
+        image.add_sample(i % 15, samples[i]);
+        layer.add_sample(i % 15, 0.5f * samples[i]);
+    }
+    image.add_sample(2, Color(NAN));
+    image.add_sample(3, Color(INFINITY));
+    PartHeader h;
+    h.lesson = "04_rendering_equation";
+    h.scene = "scenes/x.toml";
+    h.scene_hash = "0123456789abcdef";
+    h.options = "--clamp=\n--plain=true";
+    h.seed = 42;
+    h.image_width = 20;
+    h.image_height = 10;
+    h.x0 = 15;
+    h.x1 = 20;
+    h.y0 = 7;
+    h.y1 = 10;
+    h.sample_begin = 3;
+    h.sample_end = 7;
+    h.planned_end = 9;
+    h.films = {"image", "bounce1"};
+    h.seconds = 1.25;
+    h.rays = 123456789012ull;
+    h.threads = 2;
+    h.exposure = -1.5f;
+    h.notes = {"a note", "another"};
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "lessons_test_part.exr").string();
+    write_part(path, h, std::vector<Film>{image, layer});
+    const PartFile p = read_part(path);
+    std::filesystem::remove(path);
+    EXPECT_EQ(p.header.lesson, h.lesson);
+    EXPECT_EQ(p.header.options, h.options);
+    EXPECT_EQ(p.header.seed, 42u);
+    EXPECT_EQ(p.header.pixels_text(), "15:20,7:10");
+    EXPECT_EQ(p.header.samples_text(), "3:7");
+    EXPECT_TRUE(p.header.partial());
+    EXPECT_EQ(p.header.films, h.films);
+    EXPECT_EQ(p.header.rays, h.rays);
+    EXPECT_EQ(p.header.seconds, 1.25);
+    EXPECT_EQ(p.header.exposure, -1.5f);
+    EXPECT_EQ(p.header.notes, h.notes);
+    EXPECT_TRUE(p.header.bias.empty());
+    ASSERT_EQ(p.films.size(), 2u);
+    for (size_t i = 0; i < 15; ++i) {
+        EXPECT_TRUE(same_pixel(p.films[0].pixels()[i], image.pixels()[i])) << i;
+        EXPECT_TRUE(same_pixel(p.films[1].pixels()[i], layer.pixels()[i])) << i;
+        EXPECT_EQ(p.films[0].pixels()[i].sum_squares, image.pixels()[i].sum_squares);
+    }
+}
+
+TEST(Farm, CoverageNamesTheMissingPiecesAndTheSamplesReached) {
+    // An 8x4 image: the left half has samples 0:4 and 4:6, the right half 0:4 only.
+    const std::vector<PartFile> parts{header_only("a", 0, 8, 0, 4, 0, 4),
+                                      header_only("b", 0, 4, 0, 4, 4, 6)};
+    const Coverage c = part_coverage(parts, 0);
+    EXPECT_EQ(c.target, 6);
+    EXPECT_EQ(c.spp_min, 4);
+    EXPECT_EQ(c.spp_max, 6);
+    EXPECT_DOUBLE_EQ(c.fraction, (4.0 * 32 + 2.0 * 16) / (6.0 * 32));
+    ASSERT_EQ(c.missing.size(), 1u);
+    EXPECT_EQ(c.missing[0], "samples 4:6 of pixels 4:8,0:4");
+    EXPECT_TRUE(part_coverage({header_only("a", 0, 8, 0, 4, 0, 4)}, 4).complete());
+    EXPECT_EQ(part_coverage({header_only("a", 0, 8, 0, 4, 2, 4)}, 4).missing.at(0),
+              "samples 0:2 of pixels 0:8,0:4");
+}
+
+TEST(Farm, PartsHoldingTheSameSamplesOfAPixelAreRefused) {
+    EXPECT_NO_THROW(check_parts_disjoint(
+        {header_only("a", 0, 4, 0, 4, 0, 4), header_only("b", 4, 8, 0, 4, 0, 4),
+         header_only("c", 0, 8, 0, 4, 4, 8)}));
+    try {
+        check_parts_disjoint({header_only("a", 0, 5, 0, 4, 0, 4), header_only("b", 4, 8, 0, 4, 3, 8)});
+        FAIL() << "overlap not refused";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("holds samples 3:4 of pixels 4:5,0:4"),
+                  std::string::npos)
+            << e.what();
+    }
+}
