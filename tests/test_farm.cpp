@@ -210,3 +210,42 @@ TEST(Farm, PartsHoldingTheSameSamplesOfAPixelAreRefused) {
             << e.what();
     }
 }
+
+TEST(Farm, PairsOfNumbersAreReadStrictly) {
+    long long a = 0, b = 0;
+    EXPECT_TRUE(parse_pair("0:8", ':', a, b));
+    EXPECT_EQ(a, 0);
+    EXPECT_EQ(b, 8);
+    EXPECT_TRUE(parse_pair("32x24", 'x', a, b));
+    EXPECT_EQ(b, 24);
+    for (const char* bad : {"", ":", "1:", ":2", "-1:2", "1:+2", " 1:2", "1:2 ", "1:2:3", "a:b",
+                            "99999999999999999999:1", "1;2"})
+        EXPECT_FALSE(parse_pair(bad, ':', a, b)) << bad;
+}
+
+TEST(Farm, PartsOfOtherBuildsOrCpusAreNamed) {
+    std::vector<PartFile> parts{header_only("a", 0, 8, 0, 4, 0, 4),
+                                header_only("b", 0, 8, 0, 4, 4, 8)};
+    for (PartFile& p : parts) {
+        p.header.build = "0123";
+        p.header.cpu = "A CPU";
+    }
+    EXPECT_EQ(mixed_builds(parts), "");
+    parts[1].header.cpu = "Another CPU";
+    EXPECT_NE(mixed_builds(parts).find("b was made on another CPU (Another CPU)"), std::string::npos);
+    parts[1].header.build = "4567";
+    EXPECT_NE(mixed_builds(parts).find("b was made by another build"), std::string::npos);
+}
+
+TEST(Farm, TheTargetIsTheLargestEndAskedForAndPartsPastItAreNamed) {
+    std::vector<PartFile> parts{header_only("a", 0, 8, 0, 4, 0, 4)};
+    parts[0].header.planned_end = 10;  // interrupted after 4 of 10
+    Coverage c = part_coverage(parts, 0);
+    EXPECT_EQ(c.target, 10);
+    ASSERT_EQ(c.missing.size(), 1u);
+    EXPECT_EQ(c.missing[0], "samples 4:10 of pixels 0:8,0:4");
+    c = part_coverage(parts, 3);
+    ASSERT_EQ(c.beyond.size(), 1u);
+    EXPECT_FALSE(c.complete());
+    EXPECT_TRUE(part_coverage(parts, 4).complete());
+}

@@ -12,6 +12,8 @@
 // --status lists the parts there are (and the files named that are not there yet), the samples
 // per pixel reached and the pieces missing; with --out it merges what there is into a preview.
 // Exit codes: 0 done, 1 a failure while writing, 2 bad input (naming the part and the field).
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
@@ -48,7 +50,26 @@ struct Merged {
     std::vector<Image> layers;
 };
 
+// Refuses a merge whose films would not fit in memory, before any is made.
+void check_memory(const std::vector<PartFile>& parts) {
+    const PartHeader& h = parts[0].header;
+    const double need = static_cast<double>(h.image_width) * h.image_height *
+                        (static_cast<double>(h.films.size()) * sizeof(FilmPixel) + 64.0);
+    const double physical =
+        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (physical > 0 && need > 0.5 * physical) {
+        char msg[200];
+        std::snprintf(msg, sizeof msg,
+                      "merging %zu films of %dx%d needs %.1f GiB, more than half of this "
+                      "machine's %.1f GiB",
+                      h.films.size(), h.image_width, h.image_height, need / (1 << 30),
+                      physical / (1 << 30));
+        throw InputError(parts[0].path, 0, "lessons.image", msg);
+    }
+}
+
 Merged merge(const std::vector<PartFile>& parts) {
+    check_memory(parts);
     Merged m;
     m.films = merge_parts(parts);
     m.image = m.films[0].mean();
@@ -101,6 +122,8 @@ void write_outputs(const Options& o, const std::vector<PartFile>& parts, const M
     if (preview) report.set("spp_max", coverage.spp_max);
     report.set("parts", static_cast<int>(parts.size()));
     report.set("partial_parts", partial);
+    const std::string mixed = mixed_builds(parts);
+    report.set("one_build_and_cpu", mixed.empty());
     report.set("firefly_pixels", film.firefly_pixels());
     report.set("biased", !h.bias.empty());
     report.set("bias", h.bias);
@@ -175,6 +198,10 @@ int status(const Options& o) {
     check_parts_disjoint(parts);
     const Coverage c = part_coverage(parts, o.spp);
     const PartHeader& h = parts[0].header;
+    for (const std::string& b : c.beyond) std::printf("  too many samples: %s\n", b.c_str());
+    if (const std::string mixed = mixed_builds(parts); !mixed.empty())
+        std::printf("  note: %s: the merge may differ from a single run in the last bits\n",
+                    mixed.c_str());
     std::printf("%s on %s, %dx%d, seed %llu: %d to %d of %d spp per pixel, %.1f%% of the samples\n",
                 h.lesson.c_str(), h.scene.c_str(), h.image_width, h.image_height,
                 static_cast<unsigned long long>(h.seed), c.spp_min, c.spp_max, c.target,
@@ -184,7 +211,12 @@ int status(const Options& o) {
     if (c.missing.size() > shown)
         std::printf("  ... and %zu more missing pieces\n", c.missing.size() - shown);
     std::printf("%s\n", c.complete() ? "complete: merge them" : "incomplete");
-    if (!o.out.empty()) write_outputs(o, parts, merge(parts), c, !c.complete());
+    if (!o.out.empty()) {
+        if (!c.beyond.empty())
+            throw InputError("command line", 0, "--spp",
+                             c.beyond[0] + ": no preview of more samples than asked for");
+        write_outputs(o, parts, merge(parts), c, !c.complete());
+    }
     return 0;
 }
 
@@ -197,6 +229,15 @@ int run(const Options& o) {
     check_parts_agree(parts);
     check_parts_disjoint(parts);
     const Coverage c = part_coverage(parts, o.spp);
+    if (c.target == 0)
+        throw InputError("command line", 0, "PARTS", "the parts hold no samples");
+    if (!c.beyond.empty())
+        throw InputError("command line", 0, "--spp",
+                         c.beyond[0] + ": leave it out, or merge without --spp");
+    if (const std::string mixed = mixed_builds(parts); !mixed.empty() && !o.quiet)
+        std::cerr << "merge: warning: " << mixed
+                  << ": the merged image is a correct render, but may differ from a single run "
+                     "in the last bits (docs/farm.md)\n";
     if (!c.complete()) {
         std::string msg = "the parts do not cover samples 0:" + std::to_string(c.target) +
                           " of every pixel: missing " + c.missing[0];
@@ -221,8 +262,8 @@ int main(int argc, char** argv) {
                  "List the parts there are and those not there yet, the samples per pixel "
                  "reached and the pieces missing; with --out, merge what there is as a preview");
     app.add_option("--spp", o.spp,
-                   "The samples per pixel the render is to reach (default: the largest sample "
-                   "end of any part)")
+                   "The samples per pixel the render is to reach (default: the largest end any "
+                   "part was asked for)")
         ->check(CLI::Range(1, 1 << 24));
     app.add_option("--reference", o.reference, "An EXR to measure the merged image against");
     app.add_option("--variance", o.variance,

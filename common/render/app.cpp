@@ -122,9 +122,7 @@ void check_memory(int width, int height) {
 void parse_range(const std::string& text, const std::string& flag, long long limit,
                  int& begin, int& end, const std::string& what) {
     long long a = 0, b = 0;
-    char tail = 0;
-    if (std::sscanf(text.c_str(), "%lld:%lld%c", &a, &b, &tail) != 2 || a < 0 || b <= a ||
-        b > limit)
+    if (!parse_pair(text, ':', a, b) || b <= a || b > limit)
         throw InputError("command line", 0, flag,
                          "'" + text + "' is not " + what + " A:B with 0 <= A < B <= " +
                              std::to_string(limit));
@@ -134,6 +132,9 @@ void parse_range(const std::string& text, const std::string& flag, long long lim
 
 // --samples and --pixels into o.part (and --samples A:B into o.spp = B - A).
 void parse_part_options(const CLI::App& app, CommonOptions& o) {
+    for (const char* flag : {"--samples", "--pixels"})
+        if (app.count(flag) > 0 && (flag[2] == 's' ? o.samples : o.pixels).empty())
+            throw InputError("command line", 0, flag, "is empty");
     if (!o.is_part()) return;
     if (app.count("--spp") > 0 && !o.samples.empty())
         throw InputError("command line", 0, "--samples",
@@ -362,7 +363,7 @@ PartHeader part_header(const Lesson& lesson, const CommonOptions& o, const RunIn
     PartHeader h;
     h.lesson = lesson.name;
     h.scene = o.scene;
-    h.scene_hash = scene_files_hash(o.scene);
+    h.scene_hash = in.scene_hash;
     h.options = o.image_options;
     h.seed = o.seed;
     h.image_width = in.scene.width;
@@ -383,6 +384,8 @@ PartHeader part_header(const Lesson& lesson, const CommonOptions& o, const RunIn
     h.exposure = o.exposure;
     h.notes = in.model.notes;
     h.bias = run_bias(o, in);
+    h.build = this_build();
+    h.cpu = this_cpu();
     return h;
 }
 
@@ -501,7 +504,9 @@ std::string image_options(const CLI::App& app) {
     std::vector<std::string> lines;
     for (const CLI::Option* opt : app.get_options()) {
         const std::string name = opt->get_name();
-        if (std::find(std::begin(kApart), std::end(kApart), name) != std::end(kApart)) continue;
+        if (name.empty() ||
+            std::find(std::begin(kApart), std::end(kApart), name) != std::end(kApart))
+            continue;
         std::string value;
         if (opt->count() > 0) {
             for (const std::string& r : opt->results()) value += (value.empty() ? "" : ",") + r;
@@ -524,6 +529,8 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     check_part(o, in.scene);
     in.reference = read_reference(o, in.scene);
     in.model = lesson.make_model(in.scene);
+    // What a part belongs to, taken now: a scene edited while the part renders is not its scene.
+    if (o.is_part()) in.scene_hash = scene_files_hash(o.scene, o.limits);
     if (in.model.splatting && o.part.crops(in.scene))
         throw InputError("command line", 0, "--pixels",
                          lesson.name + " splats light from every pixel's light subpath onto "

@@ -72,6 +72,7 @@ struct RunInputs {
     Scene scene;
     Model model;
     Image reference;  // empty without --reference
+    std::string scene_hash;  // a part's: scene_files_hash of the scene and the files it names
 };
 // Loads the scene (applying --naive and --albedo), reads the reference and makes the model;
 // throws InputError for bad input.

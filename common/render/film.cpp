@@ -52,17 +52,22 @@ void Film::add_sample(size_t index, const Color& radiance) {
         ++p.nan;
         return;
     }
-    if (!is_finite(radiance) || too_large(radiance)) {
+    if (!is_finite(radiance)) {
         ++p.inf;
         return;
     }
     Color value = radiance;
     float lum = luminance(value);
-    if (clamp_ > 0.0f && lum > clamp_) {
+    const bool clamped = clamp_ > 0.0f && lum > clamp_;
+    if (clamped) {
         value *= clamp_ / lum;
         lum = clamp_;
-        ++p.clamped;
     }
+    if (too_large(value)) {  // (after the clamp, which may bring it into range)
+        ++p.inf;
+        return;
+    }
+    p.clamped += clamped;
     p.max_luminance = std::max(p.max_luminance, lum);
     p.sum[0] += to_fixed(value.x);
     p.sum[1] += to_fixed(value.y);

@@ -107,8 +107,12 @@ Coverage part_coverage(const std::vector<PartFile>& parts, int target) {
     if (parts.empty()) return c;
     const int width = parts[0].header.image_width, height = parts[0].header.image_height;
     if (target <= 0)
-        for (const PartFile& p : parts) target = std::max(target, p.header.sample_end);
+        for (const PartFile& p : parts) target = std::max(target, p.header.planned_end);
     c.target = target;
+    for (const PartFile& p : parts)
+        if (p.header.sample_end > target)
+            c.beyond.push_back(p.path + " holds samples " + p.header.samples_text() +
+                               ", past the " + std::to_string(target) + " asked for");
     // The image cut along every part's edges: each cell is covered by the same parts throughout.
     std::vector<int> xs{0, width}, ys{0, height};
     for (const PartFile& p : parts) {
@@ -151,6 +155,19 @@ Coverage part_coverage(const std::vector<PartFile>& parts, int target) {
     return c;
 }
 
+std::string mixed_builds(const std::vector<PartFile>& parts) {
+    for (const PartFile& p : parts) {
+        const PartHeader &h = p.header, &first = parts[0].header;
+        if (h.build != first.build)
+            return p.path + " was made by another build of " + h.lesson + " than " +
+                   parts[0].path;
+        if (h.cpu != first.cpu)
+            return p.path + " was made on another CPU (" + h.cpu + ") than " + parts[0].path +
+                   " (" + first.cpu + ")";
+    }
+    return "";
+}
+
 std::vector<Film> merge_parts(const std::vector<PartFile>& parts) {
     const PartHeader& first = parts.at(0).header;
     std::vector<Film> films(first.films.size(), Film(first.image_width, first.image_height));
@@ -158,9 +175,7 @@ std::vector<Film> merge_parts(const std::vector<PartFile>& parts) {
         PartFile read;
         const PartFile& p = header.films.empty() ? (read = read_part(header.path)) : header;
         const PartHeader& h = p.header;
-        if (h.pixels_text() != header.header.pixels_text() ||
-            h.samples_text() != header.header.samples_text() || h.films != first.films ||
-            p.films.size() != first.films.size())
+        if (!same_header(h, header.header) || p.films.size() != first.films.size())
             throw InputError(p.path, 0, "", "changed while the merge was reading the parts");
         for (size_t f = 0; f < films.size(); ++f) films[f].add_window(p.films[f], h.x0, h.y0);
     }

@@ -23,10 +23,15 @@ struct Coverage {
     int spp_min = 0, spp_max = 0;      // samples the pixels hold, fewest and most
     double fraction = 0.0;             // of the target's samples, over the image
     std::vector<std::string> missing;  // "samples A:B of pixels X0:X1,Y0:Y1", none if complete
-    bool complete() const { return missing.empty(); }
+    std::vector<std::string> beyond;   // parts holding samples at or past the target
+    bool complete() const { return missing.empty() && beyond.empty(); }
 };
-// target 0: the largest sample end of any part.
+// target 0: the largest end any part was asked for (an interrupted part's planned end).
 Coverage part_coverage(const std::vector<PartFile>& parts, int target = 0);
+
+// Whether the parts were made by one build on one kind of CPU (the bit-for-bit guarantee
+// needs both; other parts still merge into a correct render): a line saying what differs, or "".
+std::string mixed_builds(const std::vector<PartFile>& parts);
 
 // The whole image's films: the sum of every part's films, each in its place. Parts read with
 // their pixels are added as they are; those read without (headers only, as a merge checks them

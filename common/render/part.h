@@ -12,8 +12,10 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "io/input_file.h"
 #include "render/film.h"
 
 namespace lessons {
@@ -34,6 +36,7 @@ struct PartHeader {
     int threads = 0;
     float exposure = 0.0f;  // of the PNG
     std::vector<std::string> notes, bias;
+    std::string build, cpu;  // this_build(), this_cpu() of the run that made it
 
     bool partial() const { return sample_end < planned_end; }  // interrupted
     int width() const { return x1 - x0; }
@@ -55,7 +58,19 @@ void write_part(const std::string& path, const PartHeader& header, std::span<con
 // InputError naming the file and the field for anything wrong with it.
 PartFile read_part(const std::string& path, bool with_pixels = true);
 
-// The hash of a scene's files (scene_input_files), as 16 hex digits.
-std::string scene_files_hash(const std::string& scene_file);
+// The hash of a scene's files (scene_input_files, read under `limits`), as 16 hex digits.
+// Throws InputError if one cannot be read.
+std::string scene_files_hash(const std::string& scene_file, const InputLimits& limits);
+// What made a part: the hash of this executable's file, and this CPU's model name. Parts made
+// by other builds or CPUs still merge, but their bits may differ (docs/farm.md).
+std::string this_build();
+std::string this_cpu();
+
+// "A<separator>B" as two integers of at most 18 digits each, no sign, no spaces ("0:8", "32x24");
+// false if the text is not that.
+bool parse_pair(std::string_view text, char separator, long long& a, long long& b);
+
+// Whether two headers are the same in every field.
+bool same_header(const PartHeader& a, const PartHeader& b);
 
 }  // namespace lessons

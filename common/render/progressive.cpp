@@ -151,7 +151,7 @@ RenderResult render_progressive(const Scene& scene, const Model& model, const Pr
         passes.render_to(plan.spp, settings);  // one call: pixel by pixel, all samples at once
     if (spp_taken) *spp_taken = passes.samples();
     RenderResult r = passes.result();
-    if (plan.keep_films) r.films = passes.films();
+    if (plan.keep_films) r.films = passes.take_films();
     return r;
 }
 

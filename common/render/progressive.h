@@ -85,6 +85,8 @@ public:
     const Scene& scene() const { return scene_; }
     // The image, its layers and variances so far.
     RenderResult result() const;
+    // The films themselves, moved out (the object is done with then).
+    std::vector<Film> take_films() { return std::move(films_); }
 
 private:
     RenderStats render_into(std::vector<Film>& films, int end, const RenderSettings& settings);

@@ -4,19 +4,21 @@
 # Slurm array job with a dependent merge job, and how to watch and merge them.
 #
 #   scripts/farm/plan.sh --lesson LESSON --spp N --parts K [--tiles CxR] [--dir DIR]
-#                        [--slurm] [--bin DIR] [--jobs J] -- LESSON_FLAGS...
+#                        [--threads T] [--slurm] [--bin DIR] [--jobs J] -- LESSON_FLAGS...
 #
 # The parts are K ranges of sample indices (and, with --tiles, C x R crops of the image each:
-# K x C x R parts; --tiles needs --width and --height among the lesson's flags). Each part is one
-# line of DIR/parts.txt; DIR/part_files.txt lists the part EXRs. With --slurm, also writes
-# DIR/farm.sbatch (task i runs line i + 1) and DIR/merge.sbatch. Nothing is run here.
+# K x C x R parts; --tiles needs --width and --height among the lesson's flags). Each part runs
+# on T threads (default 1; a Slurm task asks for T CPUs), GNU parallel runs J at once (default:
+# cores / T). Each part is one line of DIR/parts.txt; DIR/part_files.txt lists the part EXRs.
+# With --slurm, also writes DIR/farm.sbatch (task i runs line i + 1) and DIR/merge.sbatch.
+# Nothing is run here.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 
-usage() { sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 die() { echo "plan.sh: error: $*" >&2; exit 2; }
 
-LESSON="" SPP="" PARTS="" TILES="1x1" DIR="farm" SLURM=0 BIN="$ROOT/build/bin" JOBS=$(nproc)
+LESSON="" SPP="" PARTS="" TILES="1x1" DIR="farm" SLURM=0 BIN="$ROOT/build/bin" JOBS="" THREADS=1
 while [ $# -gt 0 ]; do
     case $1 in
         --lesson) LESSON=$2; shift 2 ;;
@@ -26,6 +28,7 @@ while [ $# -gt 0 ]; do
         --dir) DIR=$2; shift 2 ;;
         --bin) BIN=$2; shift 2 ;;
         --jobs) JOBS=$2; shift 2 ;;
+        --threads) THREADS=$2; shift 2 ;;
         --slurm) SLURM=1; shift ;;
         --help|-h) usage ;;
         --) shift; break ;;
@@ -37,11 +40,18 @@ FLAGS=("$@")
 [[ $SPP =~ ^[1-9][0-9]*$ ]] || die "--spp: '$SPP' is not a positive count"
 [[ $PARTS =~ ^[1-9][0-9]*$ ]] || die "--parts: '$PARTS' is not a positive count"
 [ "$PARTS" -le "$SPP" ] || die "--parts: $PARTS sample ranges of $SPP samples would leave some empty"
+[[ $THREADS =~ ^[1-9][0-9]*$ ]] || die "--threads: '$THREADS' is not a positive count"
+[ -n "$JOBS" ] || JOBS=$(( $(nproc) / THREADS > 0 ? $(nproc) / THREADS : 1 ))
+[[ $JOBS =~ ^[1-9][0-9]*$ ]] || die "--jobs: '$JOBS' is not a positive count"
 [[ $TILES =~ ^([1-9][0-9]*)x([1-9][0-9]*)$ ]] || die "--tiles: '$TILES' is not COLUMNSxROWS"
 COLS=${BASH_REMATCH[1]} ROWS=${BASH_REMATCH[2]}
 [ -x "$BIN/$LESSON" ] || die "--lesson: no $BIN/$LESSON (build first: scripts/test.sh --quick, or cmake --build build)"
 for f in "${FLAGS[@]}"; do
-    case $f in --spp|--samples|--pixels|--out|--time) die "the plan sets $f itself: leave it out of the lesson's flags" ;; esac
+    case $f in
+        --spp|--spp=*|--samples|--samples=*|--pixels|--pixels=*|--out|--out=*|--time|--time=*|--threads|--threads=*)
+            die "the plan sets ${f%%=*} itself: leave it out of the lesson's flags" ;;
+        --width=*|--height=*) die "write ${f%%=*} W as two words, so that the plan can read it" ;;
+    esac
 done
 
 WIDTH="" HEIGHT=""
@@ -59,6 +69,9 @@ fi
 mkdir -p "$DIR"
 DIR=$(cd "$DIR" && pwd)
 WORKDIR=$PWD
+if [ "$SLURM" -eq 1 ] && [[ "$DIR$WORKDIR" =~ [[:space:]] ]]; then
+    die "--slurm: #SBATCH lines cannot quote a path with spaces: use a --dir and a folder without"
+fi
 q() {  # the arguments quoted for the shell, separated by spaces
     local s
     s=$(printf '%q ' "$@")
@@ -77,7 +90,7 @@ for ((k = 0; k < PARTS; ++k)); do
             if [ "$COLS" -gt 1 ] || [ "$ROWS" -gt 1 ]; then
                 crop=(--pixels "$((c * WIDTH / COLS)):$(((c + 1) * WIDTH / COLS)),$((r * HEIGHT / ROWS)):$(((r + 1) * HEIGHT / ROWS))")
             fi
-            echo "$(q "$BIN/$LESSON" "${FLAGS[@]}" --samples "$a:$b" "${crop[@]}" --quiet --out "$part")" >> "$DIR/parts.txt"
+            echo "$(q "$BIN/$LESSON" "${FLAGS[@]}" --samples "$a:$b" "${crop[@]}" --threads "$THREADS" --quiet --out "$part")" >> "$DIR/parts.txt"
             echo "$part.exr" >> "$DIR/part_files.txt"
             n=$((n + 1))
         done
@@ -103,6 +116,7 @@ if [ "$SLURM" -eq 1 ]; then
 #SBATCH --job-name=lessons-$LESSON
 #SBATCH --array=0-$((n - 1))
 #SBATCH --ntasks=1
+#SBATCH --cpus-per-task=$THREADS
 #SBATCH --output=$DIR/slurm_%A_%a.log
 set -euo pipefail
 cd $(q "$WORKDIR")

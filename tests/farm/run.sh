@@ -116,6 +116,7 @@ refusals)
     expect_refusal "overlapping samples" "holds samples 2:4 of pixels 0:32,0:24, which $WORK/a.exr holds too" "${M[@]}" "$WORK/a.exr" "$WORK/overlap.exr" --out "$WORK/x"
     expect_refusal "overlapping crops" "holds samples 4:8 of pixels 8:16,0:24, which $WORK/half.exr holds too" "${M[@]}" "$WORK/a.exr" "$WORK/half.exr" "$WORK/tile_overlap.exr" --out "$WORK/x"
     expect_refusal "a missing sample range" "missing samples 8:12 of pixels 0:32,0:24" "${M[@]}" "$WORK/a.exr" "$WORK/b.exr" --spp 12 --out "$WORK/x"
+    expect_refusal "--spp below what the parts hold" "--spp: $WORK/b.exr holds samples 4:8, past the 6 asked for" "${M[@]}" "$WORK/a.exr" "$WORK/b.exr" --spp 6 --out "$WORK/x"
     expect_refusal "a gap in the samples" "missing samples 4:8 of pixels 0:32,0:24" "${M[@]}" "$WORK/a.exr" "$WORK/gap.exr" --out "$WORK/x"
     expect_refusal "a missing crop" "missing samples 4:8 of pixels 16:32,0:24" "${M[@]}" "$WORK/a.exr" "$WORK/half.exr" --out "$WORK/x"
     expect_refusal "a plain EXR" "lessons.format: missing: this EXR is not a part" "${M[@]}" "$WORK/a.exr" "$WORK/plain.exr" --out "$WORK/x"
@@ -126,7 +127,7 @@ refusals)
     grep -qE "truncated|damaged" "$WORK/err.txt" || fail "a truncated part: not said to be truncated or damaged"
     # One byte changed in the middle of the pixels: the checksum, if not the decompression, sees it.
     cp "$WORK/b.exr" "$WORK/flipped.exr"
-    printf '\x5a' | dd of="$WORK/flipped.exr" bs=1 seek=$((size - 2000)) conv=notrunc status=none
+    python3 -c 'import sys; p, at = sys.argv[1], int(sys.argv[2]); b = bytearray(open(p, "rb").read()); b[at] ^= 0xff; open(p, "wb").write(b)' "$WORK/flipped.exr" $((size - 2000))
     expect_refusal "a damaged part" "$WORK/flipped.exr" "${M[@]}" "$WORK/a.exr" "$WORK/flipped.exr" --out "$WORK/x"
     # A header changed: the rays' count (a digit for another) passes tinyexr, not the checksum.
     cp "$WORK/b.exr" "$WORK/edited.exr"
@@ -152,7 +153,12 @@ interrupt)
     L4=("$BIN/04_rendering_equation" --scene scenes/cornell_box.toml --width 32 --height 24 --threads 2)
     "${L4[@]}" --samples 0:100000 --out "$WORK/part" --report "$WORK/part.json" 2> "$WORK/err.txt" &
     pid=$!
-    sleep 1.5
+    # Once it prints its header (the Ctrl-C handler is installed right after), let it render.
+    for _ in $(seq 300); do
+        grep -q ' threads$' "$WORK/err.txt" 2> /dev/null && break
+        sleep 0.1
+    done
+    sleep 1
     kill -INT $pid
     status=0
     wait $pid || status=$?
@@ -162,7 +168,11 @@ interrupt)
     "$BIN/merge" --status "$WORK/part.exr" > "$WORK/status.txt"
     grep -qF "samples 0:$taken (interrupted; asked for 0:100000)" "$WORK/status.txt" ||
         { cat "$WORK/status.txt"; fail "the status does not show the part as interrupted at $taken"; }
-    "$BIN/merge" --quiet "$WORK/part.exr" --out "$WORK/merged"
+    # Its plan was 100000 samples: the merge says what is missing, and merges what it has
+    # when told that that is what is wanted.
+    expect_refusal "an interrupted part alone" "missing samples $taken:100000 of pixels 0:32,0:24" \
+        "$BIN/merge" --quiet "$WORK/part.exr" --out "$WORK/merged"
+    "$BIN/merge" --quiet "$WORK/part.exr" --spp "$taken" --out "$WORK/merged"
     "${L4[@]}" --quiet --spp "$taken" --out "$WORK/single"
     same "$WORK/single.exr" "$WORK/merged.exr" "the interrupted part ($taken samples)"
     echo "ok: a part interrupted after $taken samples merges to the single run with --spp $taken, bit for bit"
@@ -175,13 +185,13 @@ plan)
     "$BIN/$L" --quiet "${FLAGS[@]}" --spp 24 --out "$WORK/single"
     # 8 parts: 4 sample ranges x 2 tiles, run by GNU parallel on this machine.
     scripts/farm/plan.sh --lesson $L --spp 24 --parts 4 --tiles 1x2 --dir "$WORK/farm" \
-        --bin "$BIN" -- "${FLAGS[@]}" --threads 1 > "$WORK/plan.txt"
+        --bin "$BIN" -- "${FLAGS[@]}" > "$WORK/plan.txt"
     cat "$WORK/plan.txt"
     [ "$(wc -l < "$WORK/farm/parts.txt")" -eq 8 ] || fail "the plan does not have 8 parts"
     cmd=$(grep '^parallel ' "$WORK/plan.txt" | head -1)
     [ -n "$cmd" ] || fail "the plan prints no GNU parallel command"
     bash -c "$cmd"
-    "$BIN/merge" --status $(cat "$WORK/farm/part_files.txt") | tail -1 | grep -q "complete" ||
+    "$BIN/merge" --status $(cat "$WORK/farm/part_files.txt") | tail -1 | grep -qx "complete: merge them" ||
         fail "merge --status does not see the farm complete"
     bash -c "$(grep '^build/bin/merge\|/merge ' "$WORK/plan.txt" | grep -v -- --status | head -1)"
     same "$WORK/single.exr" "$WORK/farm/merged.exr" "plan.sh + GNU parallel, 8 parts"
@@ -190,11 +200,18 @@ plan)
     # The Slurm scripts: syntax, then each array task as Slurm runs it (SLURM_ARRAY_TASK_ID set,
     # srun a stub that runs its command here), then the merge job.
     scripts/farm/plan.sh --lesson $L --spp 24 --parts 8 --dir "$WORK/slurm" --slurm \
-        --bin "$BIN" -- "${FLAGS[@]}" --threads 1 > "$WORK/slurm_plan.txt"
+        --bin "$BIN" -- "${FLAGS[@]}" > "$WORK/slurm_plan.txt"
     grep -q "sbatch --parsable --array=0-7" "$WORK/slurm_plan.txt" || fail "no array job in the Slurm plan"
     grep -q "dependency=afterok" "$WORK/slurm_plan.txt" || fail "no dependent merge job in the Slurm plan"
     bash -n "$WORK/slurm/farm.sbatch" && bash -n "$WORK/slurm/merge.sbatch"
     grep -q "^#SBATCH --array=0-7" "$WORK/slurm/farm.sbatch" || fail "farm.sbatch has no --array"
+    grep -q "^#SBATCH --cpus-per-task=1" "$WORK/slurm/farm.sbatch" || fail "farm.sbatch asks for no CPUs"
+    expect_refusal "plan.sh: --spp among the lesson's flags" "the plan sets --spp itself" \
+        scripts/farm/plan.sh --lesson $L --spp 24 --parts 8 --dir "$WORK/bad" --bin "$BIN" -- --spp=4
+    expect_refusal "plan.sh: tiles without a size" "--tiles: give the image size" \
+        scripts/farm/plan.sh --lesson $L --spp 24 --parts 2 --tiles 2x2 --dir "$WORK/bad" --bin "$BIN" -- --scene scenes/cornell_box.toml
+    expect_refusal "plan.sh: more parts than samples" "--parts: 30 sample ranges of 24 samples" \
+        scripts/farm/plan.sh --lesson $L --spp 24 --parts 30 --dir "$WORK/bad" --bin "$BIN"
     mkdir -p "$WORK/stub"
     printf '#!/bin/sh\nexec "$@"\n' > "$WORK/stub/srun"
     chmod +x "$WORK/stub/srun"
