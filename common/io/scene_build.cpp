@@ -3,6 +3,7 @@
 #include <iostream>
 #include <map>
 
+#include "io/gltf_file.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/mesh_file.h"
@@ -170,6 +171,66 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
     scene.add_mesh(positions, normals, mesh.uvs, triangles);
 }
 
+// glTF files read so far in this build, by path.
+using GltfCache = std::map<std::string, std::shared_ptr<const GltfScene>>;
+
+std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const SourceLocation& where,
+                                                const InputLimits& limits, GltfCache& cache) {
+    auto it = cache.find(file);
+    if (it != cache.end()) return it->second;
+    try {
+        auto g = std::make_shared<const GltfScene>(load_gltf(file, limits.file_bytes()));
+        return cache.emplace(file, g).first->second;
+    } catch (const InputError& e) {
+        throw InputError(where.file, where.line, where.field, e.what());
+    }
+}
+
+// A glTF placed by its shape's transform: each primitive's node transform, then the shape's, in
+// double, rounded once; its materials (or the shape's), and its point lights.
+void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
+              const InputLimits& limits, GltfCache& cache, TextureCache& textures) {
+    const std::shared_ptr<const GltfScene> g = read_gltf_once(s.file, s.file_where, limits, cache);
+    std::vector<uint32_t> materials(g->materials.size());
+    for (size_t i = 0; i < g->materials.size(); ++i) {
+        if (override_material >= 0) break;
+        Material m = g->materials[i];
+        read_albedo_texture(m, s.file_where, limits, textures);
+        materials[i] = scene.add_material(m);
+    }
+    for (const GltfPrimitive& p : g->primitives) {
+        const glm::dmat4& w = p.to_world;
+        const Transform node{glm::dmat3(w), glm::dvec3(w[3])};
+        const Transform t = node.then(s.transform);
+        std::vector<Vec3> positions(p.positions.size()), normals(p.normals.size());
+        for (size_t i = 0; i < positions.size(); ++i) {
+            const glm::dvec3 q = t.point(glm::dvec3(p.positions[i]));
+            if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
+                throw InputError(s.where.file, s.where.line, s.where.field,
+                                 s.file + ": " + p.where +
+                                     " is placed too far for single precision geometry (|x| "
+                                     "must be at most 1e9)");
+            positions[i] = Vec3(q);
+        }
+        for (size_t i = 0; i < normals.size(); ++i)
+            normals[i] = Vec3(t.normal(glm::dvec3(p.normals[i])));
+        const uint32_t material = override_material >= 0 ? static_cast<uint32_t>(override_material)
+                                                         : materials[p.material];
+        std::vector<Triangle> triangles;
+        triangles.reserve(p.triangles.size());
+        for (const auto& tri : p.triangles)
+            triangles.push_back({{tri[0], t.mirrors() ? tri[2] : tri[1], t.mirrors() ? tri[1] : tri[2]},
+                                 material, !normals.empty()});
+        scene.add_mesh(positions, normals, p.uvs, triangles);
+    }
+    for (const PointLight& l : g->lights)
+        scene.add_point_light({Vec3(s.transform.point(glm::dvec3(l.position))), l.intensity});
+    if (override_material >= 0)
+        scene.notes.push_back(s.file + ": every primitive has the shape's material");
+    else
+        scene.notes.insert(scene.notes.end(), g->notes.begin(), g->notes.end());
+}
+
 }  // namespace
 
 std::array<Quad, 6> box_faces(const ShapeDescription& b) {
@@ -198,6 +259,7 @@ std::array<Quad, 6> box_faces(const ShapeDescription& b) {
 Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     Scene scene;
     scene.source = d.file;
+    scene.notes = d.notes;
     scene.width = options.width > 0 ? options.width : d.width;
     scene.height = options.height > 0 ? options.height : d.height;
     scene.background = d.background;
@@ -226,6 +288,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     };
 
     MeshCache meshes;
+    GltfCache gltfs;
     for (const ShapeDescription& s : d.shapes) {
         const int material = resolve(s);
         switch (s.type) {
@@ -245,6 +308,9 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                 else
                     add_obj_mesh(scene, s, material_ids, material, options.limits, meshes,
                                  textures);
+                break;
+            case ShapeDescription::Type::Gltf:
+                add_gltf(scene, s, material, options.limits, gltfs, textures);
                 break;
         }
     }

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/gltf_file.h"
 #include "io/input_error.h"
 #include "io/input_file.h"
 #include "io/table_reader.h"
@@ -375,6 +376,19 @@ std::vector<std::string> read_mesh(TableReader& r, ShapeDescription& s, const st
     return {"file", "vertices", "faces"};
 }
 
+// A glTF 2.0 file (.gltf or .glb) placed as one shape: its triangles, materials (unless
+// `material` overrides them) and point lights (docs/interop.md).
+std::vector<std::string> read_gltf(TableReader& r, ShapeDescription& s, const std::string& file) {
+    s.type = ShapeDescription::Type::Gltf;
+    const std::filesystem::path rel = r.string("file");
+    s.file_where = r.where("file");
+    s.file = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
+                 .lexically_normal()
+                 .string();
+    if (!is_gltf_file(s.file)) r.fail("file", "must be a .gltf or .glb file");
+    return {"file"};
+}
+
 ShapeDescription parse_shape(const toml::table& t, const std::string& file, size_t index) {
     const std::string path = "shapes[" + std::to_string(index) + "]";
     TableReader r(t, file, path);
@@ -382,7 +396,7 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
     s.where = {file, r.line(), path};
     const std::string type = r.string("type");
     std::vector<std::string> allowed = {"type", "material"};
-    if (r.has("material") || type != "mesh") {
+    if (r.has("material") || (type != "mesh" && type != "gltf")) {
         s.material = r.string("material");
         s.material_where = r.where("material");
         if (s.material.empty()) r.fail("material", "must name a material, got an empty string");
@@ -400,8 +414,10 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
         fields = read_box(r, s);
     } else if (type == "mesh") {
         fields = read_mesh(r, s, file);
+    } else if (type == "gltf") {
+        fields = read_gltf(r, s, file);
     } else {
-        const std::vector<std::string> types = {"sphere", "quad", "box", "mesh"};
+        const std::vector<std::string> types = {"sphere", "quad", "box", "mesh", "gltf"};
         r.fail("type", "unknown shape type '" + type + "'" + did_you_mean(type, types) +
                            known_names(types));
     }
@@ -550,7 +566,50 @@ SceneDescription parse_scene_file(const std::string& path, const InputLimits& li
         read_input_file(path, "scene file", limits.scene_bytes(), "--max-scene-mb"), path);
 }
 
+SceneDescription gltf_scene_description(const std::string& path, const InputLimits& limits) {
+    SceneDescription d;
+    d.file = path;
+    ShapeDescription s;
+    s.type = ShapeDescription::Type::Gltf;
+    s.file = path;
+    s.where = s.file_where = {path, 0, ""};
+    d.shapes.push_back(s);
+    const GltfScene g = load_gltf(path, limits.file_bytes());
+    d.width = 640;
+    d.height = 480;
+    if (g.camera) {
+        d.camera_position = g.camera->position;
+        d.camera_look_at = g.camera->look_at;
+        d.camera_up = g.camera->up;
+        d.camera_fov = g.camera->fov_y_degrees;
+        if (g.camera->aspect > 0.0f)
+            d.height = std::clamp(static_cast<int>(std::lround(640.0f / g.camera->aspect)), 1,
+                                  kMaxImageSide);
+        d.notes.push_back("glTF: the camera is the file's '" + g.camera->name + "' (yfov " +
+                          std::to_string(g.camera->fov_y_degrees) + " degrees); the image " +
+                          std::to_string(d.width) + "x" + std::to_string(d.height) +
+                          " by its aspect, unless --width/--height say otherwise");
+    } else {
+        // Framing the bounds: looking at their centre along -z, from where a 40-degree view
+        // holds their bounding sphere.
+        const Vec3 c = 0.5f * (g.bounds.min + g.bounds.max);
+        const float radius = std::max(0.5f * glm::length(g.bounds.max - g.bounds.min), 1e-3f);
+        d.camera_fov = 40.0f;
+        d.camera_position = c + Vec3(0.0f, 0.0f, radius / std::sin(0.5f * 40.0f * kPi / 180.0f));
+        d.camera_look_at = c;
+        d.camera_up = Vec3(0.0f, 1.0f, 0.0f);
+        d.notes.push_back("glTF: the file has no perspective camera: a default one looks along -z "
+                          "at the centre of the scene's bounds, framing them in 40 degrees; "
+                          "the image 640x480 unless --width/--height say otherwise");
+    }
+    d.notes.push_back("glTF: no background (black): place the file in a TOML scene for a sky");
+    return d;
+}
+
 Scene load_scene(const std::string& path, const BuildOptions& options) {
+    if (is_gltf_file(path)) {
+        return build_scene(gltf_scene_description(path, options.limits), options);
+    }
     return build_scene(parse_scene_file(path, options.limits), options);
 }
 

@@ -34,8 +34,10 @@ struct MaterialDescription {
 };
 
 struct ShapeDescription {
-    enum class Type { Sphere, Quad, Box, Mesh } type = Type::Sphere;
-    std::string material;  // may be empty for an OBJ mesh whose faces name MTL materials
+    enum class Type { Sphere, Quad, Box, Mesh, Gltf } type = Type::Sphere;
+    // may be empty for an OBJ mesh whose faces name MTL materials, and a glTF's (which then keep
+    // their own)
+    std::string material;
     SourceLocation where;
     SourceLocation material_where;
     // sphere
@@ -50,7 +52,7 @@ struct ShapeDescription {
     // when the file is read, to boxes and meshes when the scene is built.
     Transform transform;
     SourceLocation transform_where;
-    // mesh: either a file, or inline vertices and polygonal faces
+    // mesh: either a file, or inline vertices and polygonal faces; gltf: a file
     std::string file;  // resolved relative to the scene file's folder
     SourceLocation file_where;
     std::vector<Vec3> vertices;
@@ -77,6 +79,7 @@ struct SceneDescription {
     std::vector<MaterialDescription> materials;
     std::vector<ShapeDescription> shapes;
     std::vector<PointLightDescription> point_lights;
+    std::vector<std::string> notes;  // what loading approximated (Scene::notes)
 };
 
 // A box shape as its six faces, each a quad whose front side, cross(edge_u, edge_v), faces out

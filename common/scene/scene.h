@@ -171,6 +171,9 @@ public:
     bool has_environment() const { return environment_map || !is_black(background); }
     NaiveMethods naive;      // for demonstrations only
     std::string source;      // the file it came from, for messages and reports
+    // What loading approximated or ignored (a glTF file's materials, its camera): every lesson
+    // adds these to its notes.
+    std::vector<std::string> notes;
 
 private:
     // The three steps of commit(): the BVH over every primitive's box; the area lights (one per
