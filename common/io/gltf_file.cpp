@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -89,7 +90,8 @@ public:
         const int size = component_bytes(a.componentType);
         if (size == 0) fail(field, "unknown componentType " + std::to_string(a.componentType));
         if (a.sparse.isSparse) fail(field, "sparse accessors are not supported");
-        if (a.bufferView < 0) return v;  // all zeros
+        if (a.bufferView < 0) fail(field, "has no bufferView (accessors of zeros are not supported)");
+        if (v.count == 0) return v;
         if (a.bufferView >= static_cast<int>(model_.bufferViews.size()))
             fail(field, "names bufferView " + std::to_string(a.bufferView) + ", which does not exist");
         const tinygltf::BufferView& view = model_.bufferViews[a.bufferView];
@@ -228,6 +230,23 @@ std::string fixed(double v) {
     return s.str();
 }
 
+int hex_digit(char c) {
+    return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+}
+// A relative URI as a path beside the glTF file, %XX escapes decoded (a bad one kept as it is).
+std::string resolve_uri(const std::string& gltf_path, const std::string& uri) {
+    std::string decoded;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && hex_digit(uri[i + 1]) >= 0 && hex_digit(uri[i + 2]) >= 0) {
+            decoded += static_cast<char>(16 * hex_digit(uri[i + 1]) + hex_digit(uri[i + 2]));
+            i += 2;
+        } else {
+            decoded += uri[i];
+        }
+    }
+    return (std::filesystem::path(gltf_path).parent_path() / decoded).lexically_normal().string();
+}
+
 // The file a base colour texture names, or "" (embedded, or none), with a note why not.
 std::string texture_file(const Reader& r, int texture, std::vector<std::string>& ignored,
                          bool& clamp) {
@@ -242,16 +261,7 @@ std::string texture_file(const Reader& r, int texture, std::vector<std::string>&
         ignored.push_back("its embedded baseColorTexture (the suite reads textures from files)");
         return "";
     }
-    std::string uri;  // %XX escapes decoded
-    for (size_t i = 0; i < image.uri.size(); ++i) {
-        if (image.uri[i] == '%' && i + 2 < image.uri.size()) {
-            uri += static_cast<char>(std::stoi(image.uri.substr(i + 1, 2), nullptr, 16));
-            i += 2;
-        } else {
-            uri += image.uri[i];
-        }
-    }
-    return (std::filesystem::path(r.path()).parent_path() / uri).lexically_normal().string();
+    return resolve_uri(r.path(), image.uri);
 }
 
 Material map_material(const Reader& r, const tinygltf::Material& g, const std::string& field,
@@ -419,27 +429,45 @@ void read_primitive(const Reader& r, const tinygltf::Primitive& p, const std::st
 struct Walk {
     const Reader& r;
     GltfScene& scene;
-    std::set<int> visiting;
+    std::set<int> visited;  // the hierarchy is a forest: no node twice
     int degenerate = 0;
     int default_material = -1;
+    std::map<std::pair<int, size_t>, GltfPrimitive> read;  // (mesh, primitive): read once
+    uint64_t vertices = 0;  // placed, over every instance
+    static constexpr uint64_t kMaxVertices = uint64_t{1} << 28;
 
     void node(int index, const glm::dmat4& parent, int depth) {
         const tinygltf::Model& m = r.model();
         const std::string field = "nodes[" + std::to_string(index) + "]";
         if (index < 0 || index >= static_cast<int>(m.nodes.size()))
             r.fail("nodes", "names node " + std::to_string(index) + ", which does not exist");
-        if (!visiting.insert(index).second || depth > 256)
-            r.fail(field, "is its own ancestor: the node hierarchy must be a tree");
+        if (!visited.insert(index).second || depth > 256)
+            r.fail(field, "is reached twice (or 256 levels deep): the node hierarchy must be a "
+                          "forest of trees, each node in one place");
         const tinygltf::Node& n = m.nodes[index];
         const glm::dmat4 world = parent * local_matrix(r, n, field);
+        bool mesh_skipped = false;
         if (n.mesh >= 0) {
             if (n.mesh >= static_cast<int>(m.meshes.size()))
                 r.fail(field + ".mesh", "names mesh " + std::to_string(n.mesh) + ", which does not exist");
             const tinygltf::Mesh& mesh = m.meshes[n.mesh];
-            for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-                GltfPrimitive prim;
-                prim.where = "meshes[" + std::to_string(n.mesh) + "].primitives[" + std::to_string(p) + "]";
-                read_primitive(r, mesh.primitives[p], prim.where, prim, degenerate);
+            const double det = glm::determinant(glm::dmat3(world));
+            if (!(std::fabs(det) > 1e-300)) {
+                scene.notes.push_back("glTF: " + field + " flattens its mesh (a zero scale): left out");
+                mesh_skipped = true;
+            }
+            for (size_t p = 0; p < mesh.primitives.size() && !mesh_skipped; ++p) {
+                auto cached = read.find({n.mesh, p});
+                if (cached == read.end()) {
+                    GltfPrimitive fresh;
+                    fresh.where = "meshes[" + std::to_string(n.mesh) + "].primitives[" + std::to_string(p) + "]";
+                    read_primitive(r, mesh.primitives[p], fresh.where, fresh, degenerate);
+                    cached = read.emplace(std::make_pair(n.mesh, p), std::move(fresh)).first;
+                }
+                GltfPrimitive prim = cached->second;
+                vertices += prim.positions.size();
+                if (vertices > kMaxVertices)
+                    r.fail(field, "places more than 2^28 vertices in all (meshes placed by many nodes count each time)");
                 const int mat = mesh.primitives[p].material;
                 if (mat >= static_cast<int>(m.materials.size()))
                     r.fail(prim.where + ".material", "names material " + std::to_string(mat) + ", which does not exist");
@@ -451,9 +479,12 @@ struct Walk {
         }
         if (n.camera >= 0 && !scene.camera) camera(n, world, field);
         if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light"))
-            light(it->second.Get("light").GetNumberAsInt(), world, field);
+        {
+            const tinygltf::Value& v = it->second.Get("light");
+            const double index = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+            light(index >= 0.0 && index < 1e9 ? static_cast<int>(index) : -1, world, field);
+        }
         for (int child : n.children) node(child, world, depth + 1);
-        visiting.erase(index);
     }
 
     int default_material_index() {
@@ -485,8 +516,14 @@ struct Walk {
             !(yfov > 0.0 && yfov < 180.0))
             r.fail("cameras[" + std::to_string(n.camera) + "]", "is not a usable perspective camera");
         cam.position = Vec3(at);
-        cam.look_at = Vec3(at + forward);
+        cam.look_at = Vec3(at + forward * std::max(1.0, 1e-3 * glm::length(at)));
         cam.up = Vec3(up);
+        if (!(glm::length(at) <= kMaxCoordinate) || cam.look_at == cam.position ||
+            !(c.perspective.aspectRatio == 0.0 ||
+              (c.perspective.aspectRatio > 1e-2 && c.perspective.aspectRatio < 1e2)))
+            r.fail("cameras[" + std::to_string(n.camera) + "]",
+                   "is not a usable perspective camera (placed beyond 1e9, or an aspectRatio "
+                   "outside [0.01, 100])");
         cam.fov_y_degrees = static_cast<float>(yfov);
         cam.aspect = static_cast<float>(c.perspective.aspectRatio);
         scene.camera = cam;
@@ -505,7 +542,12 @@ struct Walk {
         const Color intensity = rgb(l.color, Color(1.0f)) * static_cast<float>(l.intensity / 683.0);
         if (!is_finite(intensity) || intensity.x < 0.0f || intensity.y < 0.0f || intensity.z < 0.0f)
             r.fail(lf, "its colour and intensity must be finite and not negative");
-        scene.lights.push_back({Vec3(glm::dvec3(world * glm::dvec4(0, 0, 0, 1))), intensity});
+        const glm::dvec3 at = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+        if (!(std::fabs(at.x) <= kMaxCoordinate && std::fabs(at.y) <= kMaxCoordinate &&
+              std::fabs(at.z) <= kMaxCoordinate))
+            r.fail(field, "places its light beyond 1e9 (or not at a finite point)");
+        scene.lights.push_back({Vec3(at), intensity});
+        scene.bounds.expand(Vec3(at));
         if (l.range > 0.0) scene.notes.push_back("glTF: " + lf + ": range " + fixed(l.range) + " ignored (light falls off as 1/d^2 without end)");
     }
 };
@@ -517,8 +559,56 @@ bool is_gltf_file(const std::string& path) {
     return ext == ".gltf" || ext == ".glb" || ext == ".GLTF" || ext == ".GLB";
 }
 
+namespace {
+
+// tinygltf parses JSON recursively, extras and unknown extensions included: a file of deeply
+// nested arrays would overflow the stack. No glTF needs more than a few levels.
+void check_json_depth(const std::string& path, const std::string& bytes, size_t begin, size_t end) {
+    int depth = 0;
+    bool in_string = false, escaped = false;
+    for (size_t i = begin; i < end && i < bytes.size(); ++i) {
+        const char c = bytes[i];
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > 64) throw InputError(path, 0, "", "its JSON nests deeper than 64 levels");
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
+GltfScene read_gltf(const std::string& path, uint64_t max_bytes);
+
+}  // namespace
+
 GltfScene load_gltf(const std::string& path, uint64_t max_bytes) {
-    check_input_file(path, "glTF file", max_bytes, "--max-file-mb");
+    try {
+        return read_gltf(path, max_bytes);
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw;
+    } catch (const std::exception& e) {  // (tinygltf's, the standard library's)
+        throw InputError(path, 0, "", std::string("cannot be read as glTF: ") + e.what());
+    }
+}
+
+namespace {
+
+GltfScene read_gltf(const std::string& path, uint64_t max_bytes) {
+    const std::string bytes = read_input_file(path, "glTF file", max_bytes, "--max-file-mb");
+    if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0) {  // .glb: the JSON chunk
+        uint32_t length = 0;
+        std::memcpy(&length, bytes.data() + 12, 4);
+        check_json_depth(path, bytes, 20, 20 + static_cast<size_t>(length));
+    } else {
+        check_json_depth(path, bytes, 0, bytes.size());
+    }
     tinygltf::TinyGLTF loader;
     ReadLimits limits{max_bytes};
     tinygltf::FsCallbacks fs{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_capped,
@@ -528,13 +618,14 @@ GltfScene load_gltf(const std::string& path, uint64_t max_bytes) {
     tinygltf::Model model;
     std::string err, warn;
     const std::string ext = std::filesystem::path(path).extension().string();
-    bool ok = false;
-    try {
-        ok = ext == ".glb" || ext == ".GLB" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    } catch (const std::exception& e) {
-        throw InputError(path, 0, "", std::string("cannot be read as glTF: ") + e.what());
-    }
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+    const bool ok =
+        ext == ".glb" || ext == ".GLB"
+            ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
+                                          static_cast<unsigned int>(bytes.size()), base)
+            : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                         static_cast<unsigned int>(bytes.size()), base);
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         throw InputError(path, 0, "", "cannot be read as glTF: " + (err.empty() ? warn : err));
@@ -549,7 +640,7 @@ GltfScene load_gltf(const std::string& path, uint64_t max_bytes) {
     for (size_t i = 0; i < model.materials.size(); ++i)
         scene.materials.push_back(
             map_material(r, model.materials[i], "materials[" + std::to_string(i) + "]", scene.notes));
-    Walk walk{r, scene, {}};
+    Walk walk{r, scene, {}, 0, -1, {}, 0};
     std::vector<int> roots;
     const int which = model.defaultScene >= 0 ? model.defaultScene : model.scenes.empty() ? -1 : 0;
     if (which >= static_cast<int>(model.scenes.size()))
@@ -569,7 +660,13 @@ GltfScene load_gltf(const std::string& path, uint64_t max_bytes) {
         scene.notes.push_back("glTF: " + std::to_string(walk.degenerate) + " zero-area triangle(s) skipped");
     if (model.skins.size() > 0 || model.animations.size() > 0)
         scene.notes.push_back("glTF: skins and animations ignored (the scene as it rests)");
+    for (const tinygltf::Buffer& b : model.buffers)
+        if (!b.uri.empty() && b.uri.rfind("data:", 0) != 0) scene.files.push_back(resolve_uri(path, b.uri));
+    for (const tinygltf::Image& i : model.images)
+        if (!i.uri.empty() && i.uri.rfind("data:", 0) != 0) scene.files.push_back(resolve_uri(path, i.uri));
     return scene;
 }
+
+}  // namespace
 
 }  // namespace lessons

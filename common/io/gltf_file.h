@@ -39,6 +39,7 @@ struct GltfScene {
     std::vector<PointLight> lights;   // in the glTF scene's space
     std::optional<GltfCamera> camera;
     std::vector<std::string> notes;   // what was approximated or ignored
+    std::vector<std::string> files;   // the external buffers and images it names
     Bounds3 bounds;                   // of every placed vertex
 };
 

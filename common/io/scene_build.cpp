@@ -190,7 +190,8 @@ std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const S
 // double, rounded once; its materials (or the shape's), and its point lights.
 void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
               const InputLimits& limits, GltfCache& cache, TextureCache& textures) {
-    const std::shared_ptr<const GltfScene> g = read_gltf_once(s.file, s.file_where, limits, cache);
+    const std::shared_ptr<const GltfScene> g =
+        s.gltf ? s.gltf : read_gltf_once(s.file, s.file_where, limits, cache);
     std::vector<uint32_t> materials(g->materials.size());
     for (size_t i = 0; i < g->materials.size(); ++i) {
         if (override_material >= 0) break;
@@ -198,6 +199,7 @@ void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
         read_albedo_texture(m, s.file_where, limits, textures);
         materials[i] = scene.add_material(m);
     }
+    int flattened = 0;
     for (const GltfPrimitive& p : g->primitives) {
         const glm::dmat4& w = p.to_world;
         const Transform node{glm::dmat3(w), glm::dvec3(w[3])};
@@ -218,17 +220,33 @@ void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
                                                          : materials[p.material];
         std::vector<Triangle> triangles;
         triangles.reserve(p.triangles.size());
-        for (const auto& tri : p.triangles)
+        for (const auto& tri : p.triangles) {
+            const Vec3 n = glm::cross(positions[tri[1]] - positions[tri[0]],
+                                      positions[tri[2]] - positions[tri[0]]);
+            if (!(glm::dot(n, n) > 0.0f)) {  // flattened by the placement, in float
+                ++flattened;
+                continue;
+            }
             triangles.push_back({{tri[0], t.mirrors() ? tri[2] : tri[1], t.mirrors() ? tri[1] : tri[2]},
                                  material, !normals.empty()});
-        scene.add_mesh(positions, normals, p.uvs, triangles);
+        }
+        if (!triangles.empty()) scene.add_mesh(positions, normals, p.uvs, triangles);
     }
-    for (const PointLight& l : g->lights)
-        scene.add_point_light({Vec3(s.transform.point(glm::dvec3(l.position))), l.intensity});
+    for (const PointLight& l : g->lights) {
+        const glm::dvec3 q = s.transform.point(glm::dvec3(l.position));
+        if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
+            throw InputError(s.where.file, s.where.line, s.where.field,
+                             s.file + ": a light is placed beyond 1e9");
+        scene.add_point_light({Vec3(q), l.intensity});
+    }
+    if (flattened > 0)
+        scene.notes.push_back(s.file + ": " + std::to_string(flattened) +
+                              " triangle(s) of zero area once placed, skipped");
+    for (const std::string& note : g->notes)  // (with an override, its materials are not used)
+        if (override_material < 0 || note.rfind("glTF material", 0) != 0)
+            scene.notes.push_back(note);
     if (override_material >= 0)
         scene.notes.push_back(s.file + ": every primitive has the shape's material");
-    else
-        scene.notes.insert(scene.notes.end(), g->notes.begin(), g->notes.end());
 }
 
 }  // namespace

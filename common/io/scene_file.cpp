@@ -573,8 +573,10 @@ SceneDescription gltf_scene_description(const std::string& path, const InputLimi
     s.type = ShapeDescription::Type::Gltf;
     s.file = path;
     s.where = s.file_where = {path, 0, ""};
+    auto loaded = std::make_shared<const GltfScene>(load_gltf(path, limits.file_bytes()));
+    const GltfScene& g = *loaded;
+    s.gltf = loaded;
     d.shapes.push_back(s);
-    const GltfScene g = load_gltf(path, limits.file_bytes());
     d.width = 640;
     d.height = 480;
     if (g.camera) {

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,8 @@ struct ShapeDescription {
     SourceLocation file_where;
     std::vector<Vec3> vertices;
     std::vector<std::vector<uint32_t>> faces;
+    // gltf: the file, when it was read already (a whole glTF scene reads it for its camera)
+    std::shared_ptr<const struct GltfScene> gltf;
 };
 
 struct PointLightDescription {

@@ -55,8 +55,11 @@ gltf = {
     "scenes": [{"nodes": [0, 3, 4, 5, 6]}],
     "nodes": [
         {"name": "group", "translation": [0.25, 0.75, -0.5], "scale": [2, 2, 2], "children": [1, 2]},
-        {"name": "red cube", "mesh": 0, "rotation": [0, 1, 0, 0], "translation": [-0.5, 0.25, 0.125]},
-        {"name": "metal cube", "mesh": 1, "translation": [0.625, 0.25, -0.25], "scale": [0.5, 0.5, 0.5]},
+        # a matrix (column-major): turned about z by atan2(0.8, 0.6), moved
+        {"name": "red cube", "mesh": 0, "matrix": [0.6, 0.8, 0, 0, -0.8, 0.6, 0, 0, 0, 0, 1, 0, -0.5, 0.25, 0.125, 1]},
+        # TRS: a box 0.5 x 0.25 x 1 turned 90 degrees about y (so 1 x 0.25 x 0.5), moved
+        {"name": "metal cube", "mesh": 1, "translation": [0.625, 0.25, -0.25], "scale": [0.5, 0.25, 1.0],
+         "rotation": [0, math.sqrt(0.5), 0, math.sqrt(0.5)]},
         {"name": "lamp", "mesh": 2, "translation": [0.25, 3.5, -0.75]},
         {"name": "bulb", "translation": [-1.5, 2.5, 1.5], "extensions": {"KHR_lights_punctual": {"light": 0}}},
         {"name": "camera", "camera": 0, "translation": [0.25, 1.5, 6.5]},
@@ -148,13 +151,50 @@ position = [-1.5, 2.5, 1.5]
 intensity = [5.0, 5.0, 5.0]
 
 '''
-toml += mesh("red cube", "red", cube_v, cube_f, ['{ rotate = { axis = [0.0, 1.0, 0.0], angle = 180.0 } }', '{ translate = [-0.5, 0.25, 0.125] }'] + group)
-toml += mesh("metal cube", "metal", cube_v, cube_f, ['{ scale = [0.5, 0.5, 0.5] }', '{ translate = [0.625, 0.25, -0.25] }'] + group)
-toml += mesh("lamp", "lamp", quad_v, quad_f, ['{ translate = [0.25, 3.5, -0.75] }'])
-toml += '[[shapes]]\n# floor\ntype = "mesh"\nfile = "floor.obj"\nmaterial = "tiles"\ntransform = [{ translate = [0.0, -0.25, 0.0] }]\n'
+def scene_shapes(extra):
+    # The red cube: the group's scale 2 and move times the node's matrix, as one matrix (2 x 0.6
+    # is 1.2 exactly in double, as the loader's product makes it).
+    red = mesh("red cube", "red", cube_v, cube_f, [])
+    red = red.replace("transform = []", "matrix = [[1.2, -1.6, 0.0, -0.75], [1.6, 1.2, 0.0, 1.25], [0.0, 0.0, 2.0, -0.25], [0.0, 0.0, 0.0, 1.0]]")
+    if extra:
+        red = red.replace("matrix = [[1.2, -1.6, 0.0, -0.75], [1.6, 1.2, 0.0, 1.25]", "matrix = [[-1.2, 1.6, 0.0, 0.75], [1.6, 1.2, 0.0, 1.25]")
+    out = red
+    out += mesh("metal cube", "metal", cube_v, cube_f, ['{ scale = [0.5, 0.25, 1.0] }', '{ rotate = { axis = [0.0, 1.0, 0.0], angle = 90.0 } }', '{ translate = [0.625, 0.25, -0.25] }'] + group + extra)
+    out += mesh("lamp", "lamp", quad_v, quad_f, ['{ translate = [0.25, 3.5, -0.75] }'] + extra)
+    out += '[[shapes]]\n# floor\ntype = "mesh"\nfile = "floor.obj"\nmaterial = "tiles"\ntransform = [' + ", ".join(['{ translate = [0.0, -0.25, 0.0] }'] + extra) + ']\n'
+    return out
+header = toml
+toml = header + scene_shapes([])
+# Mirrored (x -> -x): the glTF placed by a mirroring transform, against every shape mirrored.
+mirror = '{ scale = [-1.0, 1.0, 1.0] }'
+mirrored = header.replace("position = [0.25, 1.5, 6.5]", "position = [-0.25, 1.5, 6.5]").replace(
+    "look_at = [0.25, 1.5, 5.5]", "look_at = [-0.25, 1.5, 5.5]").replace(
+    "position = [-1.5, 2.5, 1.5]", "position = [1.5, 2.5, 1.5]") + scene_shapes([mirror])
+with open(os.path.join(HERE, "cubes_mirrored.toml"), "w") as f:
+    f.write(mirrored.replace("written in the suite's format", "mirrored (x -> -x), written in the suite's format"))
 
 with open(os.path.join(HERE, "cubes.toml"), "w") as f:
     f.write(toml)
+with open(os.path.join(HERE, "cubes_placed_mirrored.toml"), "w") as f:
+    f.write('''# cubes.gltf as one shape of a TOML scene, mirrored by its transform: the same image as
+# cubes_mirrored.toml.
+description = "glTF test scene, placed in TOML, mirrored"
+
+[image]
+width = 64
+height = 48
+
+[camera]
+position = [-0.25, 1.5, 6.5]
+look_at = [-0.25, 1.5, 5.5]
+up = [0.0, 1.0, 0.0]
+fov = %s
+
+[[shapes]]
+type = "gltf"
+file = "cubes.gltf"
+transform = [{ scale = [-1.0, 1.0, 1.0] }]
+''' % fov)
 with open(os.path.join(HERE, "cubes_placed.toml"), "w") as f:
     f.write('''# cubes.gltf as one shape of a TOML scene: the same image as cubes.toml.
 description = "glTF test scene, placed in TOML"
@@ -212,3 +252,12 @@ g["materials"][1] = {"name": "glass", "pbrMetallicRoughness": {"metallicFactor":
 g["extensionsUsed"] += ["KHR_materials_clearcoat", "KHR_materials_transmission", "KHR_materials_ior"]
 with open(os.path.join(HERE, "cubes_ignored.gltf"), "w") as f:
     json.dump(g, f, indent=1)
+
+def shared_node(g):
+    g["nodes"][0]["children"] = [1, 2, 1]
+bad("gltf_shared_node", "nodes[1]: is reached twice (or 256 levels deep): the node hierarchy must be a forest", shared_node)
+def deep(g):
+    v = 1
+    for _ in range(100): v = [v]
+    g["extras"] = v
+bad("gltf_deep_json", "its JSON nests deeper than 64 levels", deep)

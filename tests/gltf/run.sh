@@ -20,12 +20,24 @@ for lesson in "${LESSONS[@]}"; do
     "${run[@]}" --scene tests/gltf/cubes_placed.toml --out "$WORK/${lesson}_placed"
     "${run[@]}" --scene tests/gltf/cubes.gltf --width 64 --height 48 --out "$WORK/${lesson}_gltf"
     "${run[@]}" --scene tests/gltf/cubes.glb --width 64 --height 48 --out "$WORK/${lesson}_glb"
+    "${run[@]}" --scene tests/gltf/cubes_mirrored.toml --out "$WORK/${lesson}_mirrored"
+    "${run[@]}" --scene tests/gltf/cubes_placed_mirrored.toml --out "$WORK/${lesson}_placed_mirrored"
     for v in placed gltf glb; do
         cmp -s "$WORK/${lesson}_toml.exr" "$WORK/${lesson}_$v.exr" ||
             fail "$lesson: the glTF ($v) and cubes.toml render differently"
     done
-    echo "ok: $lesson: cubes.gltf, cubes.glb and the glTF placed in TOML render bit for bit as cubes.toml"
+    cmp -s "$WORK/${lesson}_mirrored.exr" "$WORK/${lesson}_placed_mirrored.exr" ||
+        fail "$lesson: the glTF placed by a mirroring transform and cubes_mirrored.toml differ"
+    echo "ok: $lesson: cubes.gltf, cubes.glb, the glTF placed in TOML (and mirrored) render bit for bit as their TOML"
 done
+
+# A glTF scene split across jobs merges like any other (the part's hash covers the file).
+L4=("$BUILD/bin/04_rendering_equation" --quiet --scene tests/gltf/cubes.gltf --width 64 --height 48)
+"${L4[@]}" --samples 0:1 --out "$WORK/part0"
+"${L4[@]}" --samples 1:2 --out "$WORK/part1"
+"$BUILD/bin/merge" --quiet "$WORK/part0.exr" "$WORK/part1.exr" --out "$WORK/merged"
+cmp -s "$WORK/merged.exr" "$WORK/04_rendering_equation_gltf.exr" || fail "the merged glTF parts differ from the single run"
+echo "ok: parts of a glTF scene merge into the single run, bit for bit"
 
 # The notes: what was mapped, what was ignored, per material; the camera.
 "$BUILD/bin/04_rendering_equation" --quiet --scene tests/gltf/cubes_ignored.gltf --width 32 \
