@@ -55,17 +55,11 @@ void check_memory(const std::vector<PartFile>& parts) {
     const PartHeader& h = parts[0].header;
     const double need = static_cast<double>(h.image_width) * h.image_height *
                         (static_cast<double>(h.films.size()) * sizeof(FilmPixel) + 64.0);
-    const double physical =
-        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-    if (physical > 0 && need > 0.5 * physical) {
-        char msg[200];
-        std::snprintf(msg, sizeof msg,
-                      "merging %zu films of %dx%d needs %.1f GiB, more than half of this "
-                      "machine's %.1f GiB",
-                      h.films.size(), h.image_width, h.image_height, need / (1 << 30),
-                      physical / (1 << 30));
-        throw InputError(parts[0].path, 0, "lessons.image", msg);
-    }
+    check_fits_in_memory(need,
+                         "merging " + std::to_string(h.films.size()) + " films of " +
+                             std::to_string(h.image_width) + "x" + std::to_string(h.image_height) +
+                             " needs",
+                         parts[0].path, "lessons.image");
 }
 
 Merged merge(const std::vector<PartFile>& parts) {

@@ -2,8 +2,10 @@
 #include "io/input_file.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cctype>
+#include <cstdio>
 
 #include <fstream>
 #include <sstream>
@@ -51,6 +53,18 @@ std::string read_input_file(const std::string& path, const std::string& what, ui
     // A file that changed size since stat: keep what was read, never more than the cap.
     bytes.resize(static_cast<size_t>(in.gcount()));
     return bytes;
+}
+
+void check_fits_in_memory(double bytes, const std::string& what, const std::string& where,
+                          const std::string& field) {
+    const double physical =
+        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+    if (physical > 0 && bytes > 0.5 * physical) {
+        char msg[240];
+        std::snprintf(msg, sizeof msg, "%s %.1f GiB, more than half of this machine's %.1f GiB",
+                      what.c_str(), bytes / (1 << 30), physical / (1 << 30));
+        throw InputError(where, 0, field, msg);
+    }
 }
 
 uint64_t file_hash(const std::string& path) {

@@ -20,6 +20,11 @@ struct InputLimits {
 // ("scene file", "OBJ file") and `flag` the option that raises the cap. Returns its size.
 uint64_t check_input_file(const std::string& path, const std::string& what, uint64_t max_bytes,
                           const std::string& flag);
+// Throws InputError(where, 0, field, ...) when `bytes` is more than half of this machine's
+// physical memory: `what` says what would need them ("512x512 needs").
+void check_fits_in_memory(double bytes, const std::string& what, const std::string& where,
+                          const std::string& field);
+
 // 64-bit FNV-1a of a file's bytes (0 if it cannot be read): names what a file holds.
 uint64_t file_hash(const std::string& path);
 // The same, then the whole file's bytes.

@@ -105,17 +105,10 @@ void check_memory(int width, int height) {
     // The film (FilmPixel, 96 bytes), the mean and variance images and their copies in the
     // result, the PNG bytes: 160 bytes per pixel is a safe upper bound.
     const double bytes_per_pixel = 160.0;
-    const double need = bytes_per_pixel * width * height;
-    const double physical =
-        static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
-    if (physical > 0 && need > 0.5 * physical) {
-        char msg[200];
-        std::snprintf(msg, sizeof msg,
-                      "%dx%d needs %.1f GiB for the image buffers, more than half of this "
-                      "machine's %.1f GiB",
-                      width, height, need / (1 << 30), physical / (1 << 30));
-        throw InputError("command line", 0, "--width/--height", msg);
-    }
+    check_fits_in_memory(bytes_per_pixel * width * height,
+                         std::to_string(width) + "x" + std::to_string(height) +
+                             " needs, for the image buffers,",
+                         "command line", "--width/--height");
 }
 
 // "A:B" with 0 <= A < B <= limit, or throws naming `flag`.
