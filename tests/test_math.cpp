@@ -65,6 +65,42 @@ TEST(Rng, DifferentPixelsAndSamplesGiveDifferentSequences) {
     EXPECT_EQ(Rng(5, 1, 2).next_u32(), Rng(5, 1, 2).next_u32());
 }
 
+TEST(Rng, KroneckerSamplesStaySpreadAtEverySampleCountNotOnlyPowersOfTwo) {
+    // --time stops at any sample count, so the stratification must hold at every N, not only at
+    // powers of two. For every N from 2 to 512 and each of the first 16 dimensions, the widest
+    // gap the first N samples leave in [0, 1) (around the circle) times N: Sobol's dimensions
+    // (0 and 1, (0, 1)-sequences) stay at most 2 (every dyadic interval of length 2^-k,
+    // 2^k <= N, holds a point), Kronecker's at most 6 (measured on this seed: 4.7 at worst, in
+    // dimension 15); N independent values leave about ln N (6.2 at N = 512), often twice that.
+    double worst_sobol = 0.0, worst_kronecker = 0.0, worst_independent = 0.0;
+    for (uint64_t pixel = 0; pixel < 4; ++pixel)
+        for (int d = 0; d < 16; ++d) {
+            std::vector<float> k, r;  // kept sorted: the first N values
+            for (int n = 1; n <= 512; ++n) {
+                Rng a = Rng::kronecker(3, pixel, n - 1), b(3, pixel, n - 1);
+                float u = 0.0f, v = 0.0f;
+                for (int e = 0; e <= d; ++e) {
+                    u = a.uniform();
+                    v = b.uniform();
+                }
+                k.insert(std::upper_bound(k.begin(), k.end(), u), u);
+                r.insert(std::upper_bound(r.begin(), r.end(), v), v);
+                if (n < 2) continue;
+                auto widest = [](const std::vector<float>& w) {
+                    double gap = w.front() + 1.0 - w.back();
+                    for (size_t i = 1; i < w.size(); ++i) gap = std::max(gap, double(w[i] - w[i - 1]));
+                    return gap;
+                };
+                (d < Rng::kSobolDims ? worst_sobol : worst_kronecker) =
+                    std::max(d < Rng::kSobolDims ? worst_sobol : worst_kronecker, n * widest(k));
+                worst_independent = std::max(worst_independent, n * widest(r));
+            }
+        }
+    EXPECT_LE(worst_sobol, 2.0 + 1e-5);
+    EXPECT_LE(worst_kronecker, 6.0);
+    EXPECT_GT(worst_independent, 8.0);  // the test tells the two apart
+}
+
 TEST(Rng, KroneckerSamplesOfAPixelSpreadEvenly) {
     // 64 samples of one pixel: in each of the first four dimensions the sampler's values (Sobol's
     // in the first two, Kronecker's in the next) leave no gap in [0, 1) wider than 4/64 (three-gap
