@@ -174,11 +174,13 @@ TEST(RenderingEquation, LessonThreeEqualsEmissionPlusTheFirstBounce) {
                     1e-4f * path.image.pixels[i].x + 1e-6f);
 }
 
-TEST(RenderingEquation, TheKroneckerSamplerIsUnbiased) {
-    // Rng::kronecker (--sampler kronecker) correlates the samples of one pixel, never their
-    // distribution: each value is uniform because of the pixel's random shift. Pixels have
-    // independent shifts, so pixel means are independent: the z-test runs over pixels.
+TEST(RenderingEquation, TheStratifiedSamplersAreUnbiased) {
+    // Rng::kronecker and Rng::sobol (--sampler kronecker, sobol) correlate the samples of one
+    // pixel, never their distribution: each value is uniform because of the pixel's random
+    // shift or scramble. Pixels have independent ones, so pixel means are independent: the
+    // z-test runs over pixels.
     const Ray ray{Vec3(0.1f, -0.2f, 0.0f), glm::normalize(Vec3(0.3f, 0.4f, 1.0f))};
+    for (const bool sobol : {false, true})
     for (float rho : {0.5f, 0.8f}) {
         const Scene scene = test::furnace(rho, 1.0f);
         const LightSampler lights(scene);
@@ -188,14 +190,14 @@ TEST(RenderingEquation, TheKroneckerSamplerIsUnbiased) {
             for (uint64_t pixel = 0; pixel < 4000; ++pixel) {
                 double sum = 0.0;
                 for (uint64_t s = 0; s < 8; ++s) {
-                    Rng rng = Rng::kronecker(11, pixel, s);
+                    Rng rng = sobol ? Rng::sobol(11, pixel, s) : Rng::kronecker(11, pixel, s);
                     sum += path_trace(scene, lights, ray, rng, options).x;
                 }
                 pixel_means.push_back(sum / 8.0);
             }
             const auto [mean, se] = test::mean_and_error(pixel_means);
             EXPECT_NEAR(mean, 1.0 / (1.0 - rho), test::z_quantile(kSignificance) * se + 1e-5)
-                << "rho " << rho << " with " << strategies.name;
+                << "rho " << rho << " with " << strategies.name << (sobol ? ", sobol" : ", kronecker");
         }
     }
 }

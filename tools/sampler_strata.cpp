@@ -23,10 +23,15 @@ using namespace lessons;
 namespace {
 
 // The first `n` values of dimension d of pixel `pixel`'s samples.
-std::vector<float> values(bool kronecker, uint64_t pixel, int d, int n) {
+enum Kind { kIndependent, kKronecker, kSobol };
+const char* const kNames[] = {"independent", "kronecker", "sobol"};
+
+std::vector<float> values(Kind kind, uint64_t pixel, int d, int n) {
     std::vector<float> v;
     for (int s = 0; s < n; ++s) {
-        Rng rng = kronecker ? Rng::kronecker(3, pixel, s) : Rng(3, pixel, s);
+        Rng rng = kind == kKronecker ? Rng::kronecker(3, pixel, s)
+                  : kind == kSobol   ? Rng::sobol(3, pixel, s)
+                                     : Rng(3, pixel, s);
         float u = 0.0f;
         for (int e = 0; e <= d; ++e) u = rng.uniform();
         v.push_back(u);
@@ -34,7 +39,7 @@ std::vector<float> values(bool kronecker, uint64_t pixel, int d, int n) {
     return v;
 }
 
-double worst_gap(bool kronecker, int d, int max_n, int pixels) {
+double worst_gap(Kind kronecker, int d, int max_n, int pixels) {
     double worst = 0.0;
     for (int pixel = 0; pixel < pixels; ++pixel) {
         const std::vector<float> all = values(kronecker, pixel, d, max_n);
@@ -50,7 +55,7 @@ double worst_gap(bool kronecker, int d, int max_n, int pixels) {
     return worst;
 }
 
-double empty_cells(bool kronecker, int d, int max_n, int pixels) {
+double empty_cells(Kind kronecker, int d, int max_n, int pixels) {
     double sum = 0.0;
     int count = 0;
     for (int pixel = 0; pixel < pixels; ++pixel) {
@@ -78,13 +83,21 @@ int main(int argc, char** argv) {
     app.add_option("--dims", dims, "Dimensions")->check(CLI::Range(2, Rng::kKroneckerDims));
     app.add_option("--pixels", pixels, "Pixels")->check(CLI::Range(1, 1024));
     CLI11_PARSE(app, argc, argv);
-    std::printf("dimension,kronecker_worst_n_gap,independent_worst_n_gap\n");
-    for (int d = 0; d < dims; ++d)
-        std::printf("%d,%.2f,%.2f\n", d, worst_gap(true, d, max_n, pixels),
-                    worst_gap(false, d, max_n, pixels));
-    std::printf("\npair,kronecker_empty_cells,independent_empty_cells\n");
-    for (int d = 0; d + 1 < dims; ++d)
-        std::printf("%d+%d,%.3f,%.3f\n", d, d + 1, empty_cells(true, d, max_n, pixels),
-                    empty_cells(false, d, max_n, pixels));
+    std::printf("dimension");
+    for (const char* name : kNames) std::printf(",%s_worst_n_gap", name);
+    std::printf("\n");
+    for (int d = 0; d < dims; ++d) {
+        std::printf("%d", d);
+        for (Kind k : {kIndependent, kKronecker, kSobol}) std::printf(",%.2f", worst_gap(k, d, max_n, pixels));
+        std::printf("\n");
+    }
+    std::printf("\npair");
+    for (const char* name : kNames) std::printf(",%s_empty_cells", name);
+    std::printf("\n");
+    for (int d = 0; d + 1 < dims; ++d) {
+        std::printf("%d+%d", d, d + 1);
+        for (Kind k : {kIndependent, kKronecker, kSobol}) std::printf(",%.3f", empty_cells(k, d, max_n, pixels));
+        std::printf("\n");
+    }
     return 0;
 }

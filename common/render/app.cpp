@@ -79,9 +79,10 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
     app.add_option(
            "--sampler", o.sampler,
            "Where each sample's random numbers come from: independent (PCG32, the "
-           "default) or kronecker (a randomised Kronecker sequence per pixel, the positions "
-           "in the pixel from a scrambled Sobol sequence: stratified, still unbiased)")
-        ->check(CLI::IsMember({"independent", "kronecker"}));
+           "default), kronecker (a randomised Kronecker sequence per pixel, the positions "
+           "in the pixel from a scrambled Sobol sequence), or sobol (Owen-scrambled Sobol "
+           "points, each pair of dimensions shuffled apart): stratified, still unbiased")
+        ->check(CLI::IsMember({"independent", "kronecker", "sobol"}));
     app.add_option("--albedo", o.albedo,
                    "Make every diffuse reflectance (diffuse and glossy materials) this grey, in "
                    "[0, 1]: the furnace demo's ratio of the series L = E + KE + K^2E + ...")
@@ -548,7 +549,9 @@ RenderSettings render_settings(const CommonOptions& o) {
     settings.seed = o.seed;
     settings.progress = false;
     settings.clamp = o.clamp;
-    settings.kronecker = o.sampler == "kronecker";
+    settings.sampler = o.sampler == "kronecker" ? RenderSettings::Sampler::Kronecker
+                       : o.sampler == "sobol"   ? RenderSettings::Sampler::Sobol
+                                                : RenderSettings::Sampler::Independent;
     return settings;
 }
 

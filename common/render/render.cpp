@@ -98,8 +98,11 @@ TileRun run_tiles(int tile_count, const RenderSettings& settings, WorkFn&& work)
 
 // The random numbers of sample s of pixel `pixel`.
 Rng sample_rng(const RenderSettings& settings, size_t pixel, int s) {
-    return settings.kronecker ? Rng::kronecker(settings.seed, pixel, s)
-                              : Rng(settings.seed, pixel, static_cast<uint64_t>(s));
+    switch (settings.sampler) {
+        case RenderSettings::Sampler::Kronecker: return Rng::kronecker(settings.seed, pixel, s);
+        case RenderSettings::Sampler::Sobol: return Rng::sobol(settings.seed, pixel, s);
+        default: return Rng(settings.seed, pixel, static_cast<uint64_t>(s));
+    }
 }
 
 // The camera ray through film pixel (x, y), placed in it by the sample's first two numbers.

@@ -57,7 +57,9 @@ struct RenderSettings {
     // with the tiles in progress finished. Pixels of untouched tiles then lack this pass.
     const std::atomic<bool>* stop = nullptr;
     float clamp = 0.0f;  // > 0: clamp every sample's luminance to this (biased; Film::set_clamp)
-    bool kronecker = false;  // samples from Rng::kronecker (stratified) instead of independent
+    // Where each sample's random numbers come from: independent (PCG32), or a stratified sequence
+    // per pixel (Rng::kronecker, Rng::sobol).
+    enum class Sampler { Independent, Kronecker, Sobol } sampler = Sampler::Independent;
     // Progress shared by several render calls (passes of one render); else each call has its own.
     Progress* shared_progress = nullptr;
     // A crop (--pixels): the films hold pixels [crop_x, crop_x + film width) x [crop_y, ...) of

@@ -55,6 +55,25 @@ public:
     static constexpr int kKroneckerDims = 64;
     static constexpr int kSobolDims = 2;
 
+    // The same triple, drawn from Owen-scrambled Sobol points instead (--sampler sobol): values
+    // 2j and 2j + 1 of sample i are the first two dimensions of Sobol's sequence at a shuffled
+    // index, each scrambled. The shuffle and the scrambles are nested uniform scrambles (Owen
+    // 1995) made by hashing (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020), keyed by
+    // (seed, pixel, pair): every value stays uniform, so estimates stay unbiased. Each pair's
+    // first 2^k samples form a (0, k, 2)-net, for every k: the shuffle maps them onto an aligned
+    // block of 2^k Sobol points, which is a net too. So every 2D sample a path takes (a light
+    // sample's point, a BSDF direction) is stratified, at every sample count, and different
+    // pairs are decorrelated by their different shuffles. Values past kSobolPairDims come from
+    // PCG32. (docs/performance.md, "Pairs of dimensions".)
+    static Rng sobol(uint64_t seed, uint64_t pixel_index, uint64_t sample_index) {
+        Rng rng(seed, pixel_index, sample_index);
+        rng.scrambled_sobol_ = true;
+        rng.sample_ = sample_index;
+        rng.key_ = mix_bits(seed ^ mix_bits(pixel_index ^ 0x94d049bb133111ebULL));
+        return rng;
+    }
+    static constexpr int kSobolPairDims = 64;
+
     uint32_t next_u32() {
         const uint64_t old = state_;
         state_ = old * 6364136223846793005ULL + inc_;
@@ -66,6 +85,7 @@ public:
     // Uniform in [0, 1): the top 24 bits scaled by 2^-24, so the largest value is 1 - 2^-24,
     // exactly representable and strictly below 1.
     float uniform() {
+        if (scrambled_sobol_ && dimension_ < kSobolPairDims) return scrambled_sobol_value(dimension_++);
         if (kronecker_ && dimension_ < kSobolDims) return sobol_value(dimension_++);
         if (kronecker_ && dimension_ < kKroneckerDims) return kronecker_value(dimension_++);
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
@@ -76,20 +96,48 @@ private:
     // about the binary point; dimension 1 has the generator columns v_1 = 1/2,
     // v_k = v_{k-1} XOR v_{k-1}/2 (Pascal's triangle mod 2), XORed together for the bits set in i.
     float sobol_value(int d) const {
-        const auto i = static_cast<uint32_t>(sample_);
+        const uint32_t bits = sobol_bits(static_cast<uint32_t>(sample_), d) ^
+                              static_cast<uint32_t>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 32);
+        return static_cast<float>(bits >> 8) * 0x1p-24f;
+    }
+    // Sobol's first two dimensions of index i, as 32-bit fractions.
+    static uint32_t sobol_bits(uint32_t i, int d) {
+        if (d == 0) return reverse_bits(i);
         uint32_t bits = 0;
-        if (d == 0) {
-            bits = i;
-            bits = (bits << 16) | (bits >> 16);
-            bits = ((bits & 0x00ff00ffu) << 8) | ((bits & 0xff00ff00u) >> 8);
-            bits = ((bits & 0x0f0f0f0fu) << 4) | ((bits & 0xf0f0f0f0u) >> 4);
-            bits = ((bits & 0x33333333u) << 2) | ((bits & 0xccccccccu) >> 2);
-            bits = ((bits & 0x55555555u) << 1) | ((bits & 0xaaaaaaaau) >> 1);
-        } else {
-            for (uint32_t v = 1u << 31, rest = i; rest != 0; rest >>= 1, v ^= v >> 1)
-                if (rest & 1u) bits ^= v;
-        }
-        bits ^= static_cast<uint32_t>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 32);
+        for (uint32_t v = 1u << 31, rest = i; rest != 0; rest >>= 1, v ^= v >> 1)
+            if (rest & 1u) bits ^= v;
+        return bits;
+    }
+    static uint32_t reverse_bits(uint32_t b) {
+        b = (b << 16) | (b >> 16);
+        b = ((b & 0x00ff00ffu) << 8) | ((b & 0xff00ff00u) >> 8);
+        b = ((b & 0x0f0f0f0fu) << 4) | ((b & 0xf0f0f0f0u) >> 4);
+        b = ((b & 0x33333333u) << 2) | ((b & 0xccccccccu) >> 2);
+        return ((b & 0x55555555u) << 1) | ((b & 0xaaaaaaaau) >> 1);
+    }
+    // A bijection of 32-bit words in which each bit changes only with the bits below it (adding
+    // and multiplying by even numbers carry upwards), keyed by `seed` (Laine and Karras 2011).
+    static uint32_t upward_permutation(uint32_t x, uint32_t seed) {
+        x += seed;
+        x ^= x * 0x6c50b47cu;
+        x ^= x * 0xb82f1e52u;
+        x ^= x * 0xc7afe638u;
+        x ^= x * 0x8d22f6e6u;
+        return x;
+    }
+    // A nested uniform scramble of a fraction's bits: each bit flips with the bits above it (more
+    // significant), as Owen's scramble does; the same bijection applied to bit-reversed words.
+    static uint32_t owen_scramble(uint32_t bits, uint32_t seed) {
+        return reverse_bits(upward_permutation(reverse_bits(bits), seed));
+    }
+    float scrambled_sobol_value(int d) const {
+        const uint64_t pair_key = mix_bits(key_ + static_cast<uint64_t>(d / 2));
+        // The shuffle: an Owen scramble of the index maps its first 2^k values onto an aligned
+        // block of 2^k (the bits above k are flipped alike for all of them).
+        const uint32_t index =
+            owen_scramble(static_cast<uint32_t>(sample_), static_cast<uint32_t>(pair_key));
+        const uint32_t bits = owen_scramble(
+            sobol_bits(index, d % 2), static_cast<uint32_t>(mix_bits(pair_key + 1 + d % 2)));
         return static_cast<float>(bits >> 8) * 0x1p-24f;
     }
     // In 64-bit fixed point, where frac() is the wrap-around of unsigned addition: the value's
@@ -120,6 +168,7 @@ private:
     uint64_t state_ = 0;
     uint64_t inc_ = 1;
     bool kronecker_ = false;
+    bool scrambled_sobol_ = false;
     int dimension_ = 0;
     uint64_t sample_ = 0, key_ = 0;
 };
