@@ -20,10 +20,10 @@ esac
 
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
 install_missing_packages libembree-dev || echo "setup: Embree not installed: bench_bvh measures ours only" >&2
-if [ "$MODE" = full ] || [ "$MODE" = --renders ]; then install_missing_packages blender; fi
+if [ "$MODE" = full ] || [ "$MODE" = --renders ]; then install_missing_packages blender python3-numpy; fi
 build_suite
 OUT="${LESSONS_OUT:-$ROOT/out}/perf"
-CYCLES="${LESSONS_OUT:-$ROOT/out}/cycles"
+CYCLES="${LESSONS_OUT:-$ROOT/out}/cycles/cornell_box_rtiow"
 mkdir -p "$OUT"
 cd "$ROOT"
 BIN="$BUILD/bin"
@@ -42,16 +42,9 @@ REF_SPP="${REF_SPP:-512}"
 SPP_LIST="${SPP_LIST:-16 64 256}"
 field() { sed -n "s/.*\"$2\": \([0-9.eE+-]*\).*/\1/p" "$1" | head -1; }
 
-for seed in 1 2; do
-    ref="$OUT/ours_ref_${REF_SPP}spp_seed$seed"
-    [ -f "$ref.exr" ] && continue
-    echo "rendering our reference half $seed ($REF_SPP spp)"
-    "$BIN/04_rendering_equation" --scene "$SCENE" --spp "$REF_SPP" --seed "$seed" \
-        --out "$ref.tmp" --quiet
-    mv "$ref.tmp.exr" "$ref.exr"
-    rm -f "$ref.tmp.png"
-done
-REF_SPP="$REF_SPP" scripts/cycles_compare.sh --dir "$CYCLES" "$SPP_LIST"
+# Both renderers' references (two halves each) and Cycles' renders: scripts/cycles_compare.sh,
+# which also prints how the two references agree.
+REF_SPP="$REF_SPP" scripts/cycles_compare.sh --lesson 4 --dir "$CYCLES" "$SCENE" $SPP_LIST
 
 CSV="$OUT/rtiow.csv"
 echo "renderer,spp,seconds,rmse_corrected,reference_noise_rmse" > "$CSV"
@@ -68,18 +61,18 @@ for spp in $SPP_LIST; do
         "$BIN/$lesson" --scene "$SCENE" --spp "$spp" --seed $((1000 + spp)) \
             --sampler "$sampler" --out "$OUT/$name" --report "$OUT/$name.json" --quiet
         seconds="$(field "$OUT/$name.json" seconds)"
-        "$BIN/compare" "$OUT/$name.exr" "$OUT/ours_ref_${REF_SPP}spp_seed1.exr" \
-            --second-half "$OUT/ours_ref_${REF_SPP}spp_seed2.exr" > "$OUT/${name}_error.json"
+        "$BIN/compare" "$OUT/$name.exr" "$CYCLES/ours_ref_${REF_SPP}spp_seed1.exr" \
+            --second-half "$CYCLES/ours_ref_${REF_SPP}spp_seed2.exr" > "$OUT/${name}_error.json"
         echo "ours ($variant),$spp,$seconds,$(field "$OUT/${name}_error.json" rmse_corrected),$(
             awk -v m="$(field "$OUT/${name}_error.json" reference_noise_mse)" 'BEGIN{print sqrt(m)}')" >> "$CSV"
     done
     # Cycles: the wall time Blender measured around its render call (scene sync, BVH build,
     # rendering and writing the EXR; ours above counts rendering only).
-    c="$CYCLES/cycles_512px_${spp}spp_seed$((1000 + spp)).exr"
-    seconds="$(grep ",$(basename "$c")\$" "$CYCLES/times.csv" | tail -1 | cut -d, -f2 || true)"
+    c="$CYCLES/cycles_${spp}spp.exr"
+    seconds="$(grep ",$(basename "$c")\$" "$CYCLES/times.csv" | tail -1 | cut -d, -f3 || true)"
     [ -n "$seconds" ] || { echo "error: no time for $c in $CYCLES/times.csv: delete the image to render it again" >&2; exit 1; }
-    "$BIN/compare" "$c" "$CYCLES/ref_512px_${REF_SPP}spp_seed1.exr" \
-        --second-half "$CYCLES/ref_512px_${REF_SPP}spp_seed2.exr" > "$OUT/cycles_${spp}spp_error.json"
+    "$BIN/compare" "$c" "$CYCLES/cycles_ref_${REF_SPP}spp_seed1.exr" \
+        --second-half "$CYCLES/cycles_ref_${REF_SPP}spp_seed2.exr" > "$OUT/cycles_${spp}spp_error.json"
     echo "cycles,$spp,$seconds,$(field "$OUT/cycles_${spp}spp_error.json" rmse_corrected),$(
         awk -v m="$(field "$OUT/cycles_${spp}spp_error.json" reference_noise_mse)" 'BEGIN{print sqrt(m)}')" >> "$CSV"
 done

@@ -28,3 +28,44 @@ TEST(Metrics, AReferenceAgainstItselfIsZeroAndSizesMustMatch) {
     EXPECT_EQ(m.mae, 0.0);
     EXPECT_THROW(compare_images(a, Image(2, 3), "x.exr"), InputError);
 }
+
+// Block means: a 4x4 image in blocks of 2 (2x2 blocks), against a reference of 1 everywhere
+// but one black block.
+TEST(Metrics, BlockMeansFindTheBlockThatDiffersAndSkipBlackOnes) {
+    Image reference(4, 4), image(4, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const bool black = x >= 2 && y >= 2;  // the bottom-right block
+            reference.pixels[y * 4 + x] = Color(black ? 0.0f : 1.0f);
+            image.pixels[y * 4 + x] = Color(black ? 0.5f : (x >= 2 && y < 2) ? 1.1f : 1.0f);
+        }
+    const MeanComparison c = compare_means(image, reference, 2);
+    EXPECT_EQ(c.blocks_x, 2);
+    EXPECT_EQ(c.blocks_y, 2);
+    EXPECT_EQ(c.blocks_compared, 3);
+    EXPECT_TRUE(std::isnan(c.ratios[3]));
+    EXPECT_NEAR(c.ratio_min, 1.0, 1e-12);
+    EXPECT_NEAR(c.ratio_max, 1.1, 1e-6);
+    EXPECT_EQ(c.worst_x, 2);  // the top-right block
+    EXPECT_EQ(c.worst_y, 0);
+    EXPECT_NEAR(c.image_mean, (8 * 1.0 + 4 * 1.1 + 4 * 0.5) / 16.0, 1e-6);
+    EXPECT_NEAR(c.mean_ratio, (8 * 1.0 + 4 * 1.1 + 4 * 0.5) / 12.0, 1e-6);
+    EXPECT_EQ(c.mean_ratio_noise, 0.0);  // no halves: unknown
+    EXPECT_THROW(compare_means(image, Image(2, 2), 2), InputError);
+}
+
+// Halves A = m (1 + e), B = m (1 - e) in every block: each block mean's relative standard error
+// is |A - B| / (A + B) = e; the ratio of two such images has sqrt(2) e; the whole mean of n
+// equal blocks has e / sqrt(n) per image.
+TEST(Metrics, BlockMeanNoiseComesFromTheHalvesDifferences) {
+    const float e = 0.02f;
+    Image a(4, 4), b(4, 4), c(4, 4), d(4, 4);
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        a.pixels[i] = c.pixels[i] = Color(1.0f + e);
+        b.pixels[i] = d.pixels[i] = Color(1.0f - e);
+    }
+    const MeanComparison m = compare_means(a, c, 2, &b, &d);
+    EXPECT_NEAR(m.mean_ratio, 1.0, 1e-6);
+    EXPECT_NEAR(m.block_ratio_noise, std::sqrt(2.0) * e, 1e-6);
+    EXPECT_NEAR(m.mean_ratio_noise, std::sqrt(2.0) * e / 2.0, 1e-6);  // 4 blocks
+}

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -120,6 +121,16 @@ int main(int argc, char** argv) {
                    "mse minus the mean variance of the image and of the reference");
     app.add_option("--reference-variance", reference_variance_path,
                    "The reference's per-pixel variance of the mean, for bias2");
+    int blocks = 0;
+    std::string image_second_half;
+    app.add_option("--blocks", blocks,
+                   "Also compare the image's mean with the reference's, whole and in blocks of "
+                   "this many pixels square: mean_ratio and the block ratios' range, and with "
+                   "both second halves their standard errors")
+        ->check(CLI::Range(1, 1 << 20));
+    app.add_option("--image-second-half", image_second_half,
+                   "A second, independent render of the image: with --blocks, the image is the "
+                   "mean of the two, and the noise of its means is estimated from them");
     app.add_option("--out", out, "Write PREFIX_error.png and PREFIX_side_by_side.png");
     app.add_option("--scale", scale,
                    "Error mapped to the top of the colour map (default: 99th "
@@ -139,8 +150,23 @@ int main(int argc, char** argv) {
         image = read_image(image_path);
         reference = read_image(reference_path);
         double reference_noise = 0.0;
+        Image image_b, reference_b;
+        if (!image_second_half.empty()) image_b = read_image(image_second_half);
+        if (!second_half.empty()) reference_b = read_image(second_half);
+        // The block means see both halves themselves (their noise comes from the difference).
+        std::optional<MeanComparison> means;
+        if (blocks > 0)
+            means = compare_means(image, reference, blocks,
+                                  image_second_half.empty() ? nullptr : &image_b,
+                                  second_half.empty() ? nullptr : &reference_b);
+        if (!image_second_half.empty()) {
+            if (image_b.width != image.width || image_b.height != image.height)
+                throw InputError(image_second_half, 0, "", "not the image's size");
+            for (size_t i = 0; i < image.pixels.size(); ++i)
+                image.pixels[i] = 0.5f * (image.pixels[i] + image_b.pixels[i]);
+        }
         if (!second_half.empty()) {
-            const Image b = read_image(second_half);
+            const Image& b = reference_b;
             reference_noise = compare_images(b, reference, second_half).mse / 4.0;
             for (size_t i = 0; i < reference.pixels.size(); ++i)
                 reference.pixels[i] = 0.5f * (reference.pixels[i] + b.pixels[i]);
@@ -163,6 +189,18 @@ int main(int argc, char** argv) {
                 ", \"reference_noise_mse\": %.9g, \"mse_corrected\": %.9g, "
                 "\"rmse_corrected\": %.9g",
                 reference_noise, corrected, std::sqrt(std::max(0.0, corrected)));
+        }
+        if (means) {
+            const MeanComparison& c = *means;
+            std::printf(
+                ", \"block\": %d, \"blocks\": %d, \"blocks_compared\": %d, \"image_mean\": %.9g, "
+                "\"reference_mean\": %.9g, \"mean_ratio\": %.9g, \"mean_ratio_noise\": %.3g, "
+                "\"block_ratio_min\": %.9g, \"block_ratio_max\": %.9g, "
+                "\"block_ratio_noise\": %.3g, \"worst_block\": [%d, %d], "
+                "\"worst_block_ratio\": %.9g",
+                c.block, c.blocks_x * c.blocks_y, c.blocks_compared, c.image_mean,
+                c.reference_mean, c.mean_ratio, c.mean_ratio_noise, c.ratio_min, c.ratio_max,
+                c.block_ratio_noise, c.worst_x, c.worst_y, c.worst_ratio);
         }
         std::printf("}\n");
     } catch (const std::exception& e) {

@@ -608,11 +608,13 @@ SceneDescription gltf_scene_description(const std::string& path, const InputLimi
     return d;
 }
 
+SceneDescription describe_scene_file(const std::string& path, const InputLimits& limits) {
+    return is_gltf_file(path) ? gltf_scene_description(path, limits)
+                              : parse_scene_file(path, limits);
+}
+
 Scene load_scene(const std::string& path, const BuildOptions& options) {
-    if (is_gltf_file(path)) {
-        return build_scene(gltf_scene_description(path, options.limits), options);
-    }
-    return build_scene(parse_scene_file(path, options.limits), options);
+    return build_scene(describe_scene_file(path, options.limits), options);
 }
 
 }  // namespace lessons

@@ -107,6 +107,10 @@ struct BuildOptions {
 // Stage 2. Throws InputError. Warnings (e.g. skipped degenerate triangles) go to stderr.
 Scene build_scene(const SceneDescription& description, const BuildOptions& options = {});
 
+// Stage 1 for any scene file: a TOML scene, or a glTF/GLB file as a whole scene (its camera,
+// or a default one framing it).
+SceneDescription describe_scene_file(const std::string& path, const InputLimits& limits = {});
+
 // Both stages.
 Scene load_scene(const std::string& path, const BuildOptions& options = {});
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "io/input_error.h"
 
@@ -53,6 +54,98 @@ constexpr std::array<std::array<uint8_t, 3>, 11> kViridis = {{{0x44, 0x01, 0x54}
                                                               {0xFD, 0xE7, 0x25}}};
 
 }  // namespace
+
+namespace {
+// Sums of the three channels over square blocks, row-major.
+std::vector<double> block_sums(const Image& im, int block, int bx, int by) {
+    std::vector<double> sums(static_cast<size_t>(bx) * by, 0.0);
+    for (int y = 0; y < im.height; ++y)
+        for (int x = 0; x < im.width; ++x) {
+            const Color& c = im.pixels[static_cast<size_t>(y) * im.width + x];
+            sums[static_cast<size_t>(y / block) * bx + x / block] += double(c.r) + c.g + c.b;
+        }
+    return sums;
+}
+}  // namespace
+
+MeanComparison compare_means(const Image& image, const Image& reference, int block,
+                             const Image* image_b, const Image* reference_b) {
+    for (const Image* other : {&reference, image_b, reference_b})
+        if (other && (other->width != image.width || other->height != image.height))
+            throw InputError("image", 0, "",
+                             "sizes differ: " + std::to_string(image.width) + "x" +
+                                 std::to_string(image.height) + " against " +
+                                 std::to_string(other->width) + "x" + std::to_string(other->height));
+    MeanComparison r;
+    r.block = std::max(1, block);
+    r.blocks_x = (image.width + r.block - 1) / r.block;
+    r.blocks_y = (image.height + r.block - 1) / r.block;
+    const auto sums = [&](const Image& a, const Image* b) {
+        std::vector<double> s = block_sums(a, r.block, r.blocks_x, r.blocks_y);
+        if (b) {
+            const std::vector<double> t = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
+            for (size_t i = 0; i < s.size(); ++i) s[i] = 0.5 * (s[i] + t[i]);
+        }
+        return s;
+    };
+    const std::vector<double> im = sums(image, image_b), ref = sums(reference, reference_b);
+    double total_im = 0.0, total_ref = 0.0;
+    for (size_t i = 0; i < im.size(); ++i) total_im += im[i], total_ref += ref[i];
+    const double pixels = 3.0 * image.width * image.height;
+    r.image_mean = total_im / pixels;
+    r.reference_mean = total_ref / pixels;
+    r.mean_ratio = total_ref > 0.0 ? total_im / total_ref : 0.0;
+    // The halves' relative differences, pooled over the compared blocks.
+    const auto half_noise = [&](const Image* a, const Image* b, const std::vector<bool>& use) {
+        if (!a || !b) return 0.0;
+        const std::vector<double> sa = block_sums(*a, r.block, r.blocks_x, r.blocks_y),
+                                  sb = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
+        double sum = 0.0;
+        int n = 0;
+        for (size_t i = 0; i < sa.size(); ++i)
+            if (use[i] && sa[i] + sb[i] > 0.0) {
+                const double d = (sa[i] - sb[i]) / (sa[i] + sb[i]);
+                sum += d * d;
+                ++n;
+            }
+        return n ? sum / n : 0.0;
+    };
+    const double floor = 1e-3 * total_ref / static_cast<double>(im.size());
+    std::vector<bool> use(im.size());
+    r.ratios.assign(im.size(), std::nan(""));
+    r.ratio_min = std::numeric_limits<double>::infinity();
+    r.ratio_max = -r.ratio_min;
+    for (size_t i = 0; i < im.size(); ++i) {
+        use[i] = ref[i] > floor && ref[i] > 0.0;
+        if (!use[i]) continue;
+        const double q = im[i] / ref[i];
+        r.ratios[i] = q;
+        ++r.blocks_compared;
+        r.ratio_min = std::min(r.ratio_min, q);
+        r.ratio_max = std::max(r.ratio_max, q);
+        if (std::fabs(q - 1.0) >= std::fabs(r.worst_ratio - 1.0) || r.blocks_compared == 1) {
+            r.worst_ratio = q;
+            r.worst_x = static_cast<int>(i % r.blocks_x) * r.block;
+            r.worst_y = static_cast<int>(i / r.blocks_x) * r.block;
+        }
+    }
+    if (r.blocks_compared == 0) r.ratio_min = r.ratio_max = 0.0;
+    const double v_im = half_noise(&image, image_b, use), v_ref = half_noise(&reference, reference_b, use);
+    r.block_ratio_noise = std::sqrt(v_im + v_ref);
+    // The whole mean's relative variance: the blocks' own, weighted by their squared shares
+    // (the blocks' noise is independent).
+    if ((image_b || reference_b) && total_im > 0.0 && total_ref > 0.0) {
+        double w_im = 0.0, w_ref = 0.0;
+        for (size_t i = 0; i < im.size(); ++i)
+            if (use[i]) {
+                w_im += im[i] * im[i];
+                w_ref += ref[i] * ref[i];
+            }
+        r.mean_ratio_noise = std::sqrt(v_im * w_im / (total_im * total_im) +
+                                       v_ref * w_ref / (total_ref * total_ref));
+    }
+    return r;
+}
 
 std::array<uint8_t, 3> viridis(float t) {
     t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) : 1.0f;

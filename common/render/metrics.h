@@ -27,6 +27,30 @@ struct ErrorMetrics {
 ErrorMetrics compare_images(const Image& image, const Image& reference,
                             const std::string& what = "image");
 
+// Image means against a reference's, whole and in square blocks: where two renderers (or two
+// estimators) differ systematically rather than by noise (scripts/cycles_compare.sh). A mean is
+// over a block's pixels and the three channels; a block is compared when the reference's mean
+// there is at least 1e-3 of its whole mean (black regions have no ratio). With the second halves
+// of both renders (independent renders of the same image; the images are then the means of the
+// halves), each ratio's noise is estimated from the halves' differences: a block mean M of two
+// halves A, B has relative standard error |A - B| / (A + B), pooled over the blocks as an RMS.
+struct MeanComparison {
+    int block = 0;                  // side of a block, pixels (edge blocks may be smaller)
+    int blocks_x = 0, blocks_y = 0;
+    int blocks_compared = 0;        // the others are black in the reference
+    double image_mean = 0.0, reference_mean = 0.0;
+    double mean_ratio = 0.0;        // image_mean / reference_mean
+    double mean_ratio_noise = 0.0;  // its standard error (0 without halves)
+    double ratio_min = 0.0, ratio_max = 0.0;
+    double block_ratio_noise = 0.0;  // one block ratio's standard error, pooled (0 without halves)
+    int worst_x = 0, worst_y = 0;    // the block whose ratio is farthest from 1 (its top-left pixel)
+    double worst_ratio = 1.0;
+    std::vector<double> ratios;  // row-major over the blocks; NaN where not compared
+};
+// image_b and reference_b: the second halves, or null. Throws InputError on different sizes.
+MeanComparison compare_means(const Image& image, const Image& reference, int block,
+                             const Image* image_b = nullptr, const Image* reference_b = nullptr);
+
 // Each layer's share of the image's total luminance, as printable lines "NAME: P% of the
 // image's energy" (the series of lesson 4, the strategies of lesson 5).
 std::vector<std::string> layer_shares(const Image& image, const std::vector<Image>& layers,

@@ -148,6 +148,8 @@ public:
     const std::vector<Quad>& quads() const { return quads_; }
     const std::vector<Triangle>& triangles() const { return triangles_; }
     const std::vector<Vec3>& positions() const { return positions_; }
+    const std::vector<Vec3>& normals() const { return normals_; }  // empty, or one per position
+    const std::vector<Vec2>& uvs() const { return uvs_; }          // empty, or one per position
     const Bvh& bvh() const { return bvh_; }
     size_t primitive_count() const { return spheres_.size() + quads_.size() + triangles_.size(); }
     uint32_t material_of(PrimRef prim) const;

@@ -1,0 +1,216 @@
+// scene_export: a scene as the lessons see it, once loaded, written as one JSON document.
+//
+//   build/bin/scene_export SCENE [--out FILE.json]
+//
+// SCENE is a TOML scene or a glTF/GLB file, loaded by the same code as every lesson (both
+// stages: boxes become their six quads, transforms are applied, OBJ and glTF files are read and
+// triangulated, MTL and glTF materials mapped). What it writes is therefore what the lessons
+// render, in world coordinates: spheres, quads, one triangle mesh (positions, shading normals,
+// texture coordinates), the materials with every parameter their type uses, the point lights,
+// the camera, the image size and the background. The Blender bridge (scripts/blender/) builds
+// Cycles scenes from it and compares scenes through it (docs/interop.md). Numbers are written
+// with 9 significant digits, which read back to the same float.
+//
+// Exit status 2 for a bad scene (the lessons' message: file, line, field).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "io/input_error.h"
+#include "io/report.h"
+#include "io/scene_file.h"
+
+using namespace lessons;
+
+namespace {
+
+std::string number(double x) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.9g", x);
+    return buffer;
+}
+
+template <class V>
+std::string vec(const V& v, int n) {
+    std::string s = "[";
+    for (int i = 0; i < n; ++i) {
+        if (i) s += ", ";
+        s += number(v[i]);
+    }
+    s += "]";
+    return s;
+}
+std::string vec3(const Vec3& v) { return vec(v, 3); }
+
+// Writes "key": value pairs of one JSON object, in order.
+class Object {
+public:
+    void put(const std::string& key, const std::string& json) {
+        text_ += text_.empty() ? "{" : ", ";
+        text_ += json_quote(key);
+        text_ += ": ";
+        text_ += json;
+    }
+    std::string str() const { return text_.empty() ? "{}" : text_ + "}"; }
+
+private:
+    std::string text_;
+};
+
+std::string albedo_json(const ColorTexture& t) {
+    Object o;
+    if (!t.image_file.empty()) {
+        o.put("texture", json_quote(t.image_file));
+        o.put("scale", vec(t.scale, 2));
+        o.put("wrap", json_quote(t.repeat ? "repeat" : "clamp"));
+        if (t.image) o.put("mean", vec3(t.image->mean));
+    } else if (t.checker) {
+        o.put("checker", "[" + vec3(t.value) + ", " + vec3(t.odd) + "]");
+        o.put("cells", vec(t.cells, 2));
+    } else {
+        o.put("color", vec3(t.value));
+    }
+    return o.str();
+}
+
+std::string material_json(const Material& m) {
+    Object o;
+    o.put("name", json_quote(m.name));
+    o.put("type", json_quote(material_type_name(m.type)));
+    switch (m.type) {
+        case MaterialType::Diffuse: o.put("albedo", albedo_json(m.albedo)); break;
+        case MaterialType::Glossy:
+            o.put("albedo", albedo_json(m.albedo));
+            o.put("specular", vec3(m.specular));
+            o.put("roughness", number(m.roughness));
+            break;
+        case MaterialType::Conductor:
+            o.put("specular", vec3(m.specular));
+            o.put("roughness", number(m.roughness));
+            break;
+        case MaterialType::Mirror: o.put("reflectance", vec3(m.reflectance)); break;
+        case MaterialType::Glass:
+            o.put("ior", number(m.ior));
+            o.put("transmittance", vec3(m.transmittance));
+            break;
+    }
+    o.put("emission", vec3(m.emission));
+    o.put("two_sided", m.two_sided ? "true" : "false");
+    return o.str();
+}
+
+// A JSON array of the items f(i) for i < n, one per line when `lines`.
+template <class F>
+std::string array(size_t n, F f, bool lines = true) {
+    std::string s = "[";
+    for (size_t i = 0; i < n; ++i) {
+        s += i ? (lines ? ",\n  " : ", ") : (lines ? "\n  " : "");
+        s += f(i);
+    }
+    s += "]";
+    return s;
+}
+
+std::string export_scene(const SceneDescription& d, const Scene& scene) {
+    Object o;
+    o.put("format", json_quote("lessons scene export 1"));
+    o.put("source", json_quote(d.file));
+    o.put("description", json_quote(d.description));
+    o.put("width", std::to_string(scene.width));
+    o.put("height", std::to_string(scene.height));
+    Object camera;
+    camera.put("position", vec3(d.camera_position));
+    camera.put("look_at", vec3(d.camera_look_at));
+    camera.put("up", vec3(d.camera_up));
+    camera.put("fov", number(d.camera_fov));
+    o.put("camera", camera.str());
+    Object background;
+    if (!d.background_map.empty()) {
+        background.put("map", json_quote(d.background_map));
+        background.put("rotate", number(d.background_rotate));
+        background.put("strength", number(d.background_strength));
+    } else {
+        background.put("radiance", vec3(d.background));
+    }
+    o.put("background", background.str());
+    const auto& materials = scene.materials();
+    o.put("materials", array(materials.size(), [&](size_t i) { return material_json(materials[i]); }));
+    o.put("spheres", array(scene.spheres().size(), [&](size_t i) {
+        const Sphere& s = scene.spheres()[i];
+        Object p;
+        p.put("center", vec3(s.center));
+        p.put("radius", number(s.radius));
+        p.put("material", std::to_string(scene.material_of(PrimRef(ShapeKind::Sphere, uint32_t(i)))));
+        return p.str();
+    }));
+    o.put("quads", array(scene.quads().size(), [&](size_t i) {
+        const Quad& q = scene.quads()[i];
+        Object p;
+        p.put("corner", vec3(q.corner));
+        p.put("edge_u", vec3(q.edge_u));
+        p.put("edge_v", vec3(q.edge_v));
+        p.put("material", std::to_string(scene.material_of(PrimRef(ShapeKind::Quad, uint32_t(i)))));
+        return p.str();
+    }));
+    // The mesh: flat arrays (three numbers per position and normal, two per uv; three indices,
+    // one material and one smooth flag per triangle).
+    const auto& tris = scene.triangles();
+    Object mesh;
+    const auto flat3 = [](const std::vector<Vec3>& v) {
+        return array(3 * v.size(), [&](size_t i) { return number(v[i / 3][i % 3]); }, false);
+    };
+    mesh.put("positions", flat3(scene.positions()));
+    mesh.put("normals", flat3(scene.normals()));
+    mesh.put("uvs", array(2 * scene.uvs().size(),
+                          [&](size_t i) { return number(scene.uvs()[i / 2][i % 2]); }, false));
+    mesh.put("triangles", array(3 * tris.size(),
+                                [&](size_t i) { return std::to_string(tris[i / 3].v[i % 3]); }, false));
+    mesh.put("materials", array(tris.size(), [&](size_t i) { return std::to_string(tris[i].material); }, false));
+    mesh.put("smooth", array(tris.size(), [&](size_t i) { return std::string(tris[i].smooth ? "1" : "0"); }, false));
+    o.put("mesh", mesh.str());
+    o.put("point_lights", array(scene.point_lights().size(), [&](size_t i) {
+        Object p;
+        p.put("position", vec3(scene.point_lights()[i].position));
+        p.put("intensity", vec3(scene.point_lights()[i].intensity));
+        return p.str();
+    }));
+    o.put("notes", array(scene.notes.size(), [&](size_t i) { return json_quote(scene.notes[i]); }));
+    return o.str() + "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Writes a scene as the lessons load it (world-space shapes, materials, lights, "
+                 "camera) as JSON, for the Blender bridge (docs/interop.md)"};
+    std::string scene_file, out;
+    app.add_option("SCENE", scene_file, "A TOML scene, or a .gltf/.glb file")->required();
+    app.add_option("--out", out, "The JSON file to write (default: standard output)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;
+    }
+    try {
+        const SceneDescription d = describe_scene_file(scene_file);
+        const Scene scene = build_scene(d);
+        const std::string json = export_scene(d, scene);
+        if (out.empty()) {
+            std::cout << json;
+        } else {
+            std::ofstream f(out, std::ios::binary);
+            f << json;
+            f.close();
+            if (!f) throw InputError(out, 0, "--out", "cannot write the file");
+        }
+        return 0;
+    } catch (const InputError& e) {
+        std::cerr << "scene_export: error: " << e.what() << "\n";
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "scene_export: error: out of memory\n";
+        return 2;
+    }
+}
