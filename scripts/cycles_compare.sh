@@ -73,6 +73,13 @@ case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05
 SIZE_ARGS=()
 [ -z "$WIDTH" ] || SIZE_ARGS+=(--width "$WIDTH")
 [ -z "$HEIGHT" ] || SIZE_ARGS+=(--height "$HEIGHT")
+# The cached renders are of one scene (as loaded), size and lesson: DIR/stamp says which.
+STAMP="scene $(sha256sum < "$JSON" | cut -c1-16), size ${WIDTH:-scene}x${HEIGHT:-scene}, lesson $LESSON"
+if [ -f "$DIR/stamp" ] && [ "$(cat "$DIR/stamp")" != "$STAMP" ]; then
+    echo "error: $DIR holds renders of another scene, size or lesson ($(cat "$DIR/stamp")); use another --dir or delete it" >&2
+    exit 2
+fi
+echo "$STAMP" > "$DIR/stamp"
 CSV="$DIR/times.csv"
 [ -f "$CSV" ] || echo "renderer,spp,seconds,file" > "$CSV"
 field() { sed -n "s/.*\"$2\": \([0-9.eE+-]*\).*/\1/p" "$1" | head -1; }
@@ -128,7 +135,7 @@ for spp in "${SPP_LIST[@]}"; do
         else own_ref=("${CYCLES_REF[@]}") other_ref=("${OURS_REF[@]}"); fi
         own="$("$BIN/compare" "$DIR/${who}_${spp}spp.exr" "${own_ref[@]}")"
         theirs="$("$BIN/compare" "$DIR/${who}_${spp}spp.exr" "${other_ref[@]}")"
-        seconds="$(grep ",${who}_${spp}spp.exr\$" "$CSV" | tail -1 | cut -d, -f3)"
+        seconds="$(grep ",${who}_${spp}spp.exr\$" "$CSV" | tail -1 | cut -d, -f3 || true)"
         echo "$who,$spp,$seconds,$(echo "$own" | field /dev/stdin rmse_corrected),$(echo "$theirs" | field /dev/stdin rmse_corrected)" >> "$REPORT"
     done
 done

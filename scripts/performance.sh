@@ -44,7 +44,7 @@ field() { sed -n "s/.*\"$2\": \([0-9.eE+-]*\).*/\1/p" "$1" | head -1; }
 
 # Both renderers' references (two halves each) and Cycles' renders: scripts/cycles_compare.sh,
 # which also prints how the two references agree.
-REF_SPP="$REF_SPP" scripts/cycles_compare.sh --lesson 4 --dir "$CYCLES" "$SCENE" $SPP_LIST
+REF_SPP="$REF_SPP" LESSONS_BIN="$BIN" scripts/cycles_compare.sh --lesson 4 --dir "$CYCLES" "$SCENE" $SPP_LIST
 
 CSV="$OUT/rtiow.csv"
 echo "renderer,spp,seconds,rmse_corrected,reference_noise_rmse" > "$CSV"

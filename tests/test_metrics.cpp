@@ -69,3 +69,24 @@ TEST(Metrics, BlockMeanNoiseComesFromTheHalvesDifferences) {
     EXPECT_NEAR(m.block_ratio_noise, std::sqrt(2.0) * e, 1e-6);
     EXPECT_NEAR(m.mean_ratio_noise, std::sqrt(2.0) * e / 2.0, 1e-6);  // 4 blocks
 }
+
+// Blocks of different brightness and noise: the whole mean's standard error is
+// sqrt(sum (A - B)^2) / sum (A + B) over the blocks (their noise is independent), not the
+// blocks' mean relative noise; the worst block carries its own.
+TEST(Metrics, TheWholeMeansNoiseWeighsTheBlocksByTheirLight) {
+    // 4x2 pixels in blocks of 2: a bright quiet block (10 +- 0.1) and a dark noisy one (1 +- 0.2).
+    Image a(4, 2), b(4, 2), ref(4, 2);
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const bool bright = x < 2;
+            a.pixels[y * 4 + x] = Color(bright ? 10.1f : 1.2f);
+            b.pixels[y * 4 + x] = Color(bright ? 9.9f : 0.8f);
+            ref.pixels[y * 4 + x] = Color(bright ? 10.0f : 1.0f);
+        }
+    const MeanComparison m = compare_means(a, ref, 2, &b, nullptr);
+    // Per block (12 channel values): sums A - B = 12 x 0.2 and 12 x 0.4; A + B = 12 x 20, 12 x 2.
+    const double whole = std::sqrt(0.25 * (2.4 * 2.4 + 4.8 * 4.8)) / (0.5 * (240.0 + 24.0));
+    EXPECT_NEAR(m.mean_ratio_noise, whole, 1e-6);
+    EXPECT_NEAR(m.worst_ratio, 1.0, 1e-6);  // both blocks' means equal the reference's
+    EXPECT_NEAR(m.block_ratio_noise, std::sqrt(0.5 * (0.01 * 0.01 + 0.2 * 0.2)), 1e-6);
+}

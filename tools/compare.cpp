@@ -197,10 +197,10 @@ int main(int argc, char** argv) {
                 "\"reference_mean\": %.9g, \"mean_ratio\": %.9g, \"mean_ratio_noise\": %.3g, "
                 "\"block_ratio_min\": %.9g, \"block_ratio_max\": %.9g, "
                 "\"block_ratio_noise\": %.3g, \"worst_block\": [%d, %d], "
-                "\"worst_block_ratio\": %.9g",
+                "\"worst_block_ratio\": %.9g, \"worst_block_ratio_noise\": %.3g",
                 c.block, c.blocks_x * c.blocks_y, c.blocks_compared, c.image_mean,
                 c.reference_mean, c.mean_ratio, c.mean_ratio_noise, c.ratio_min, c.ratio_max,
-                c.block_ratio_noise, c.worst_x, c.worst_y, c.worst_ratio);
+                c.block_ratio_noise, c.worst_x, c.worst_y, c.worst_ratio, c.worst_ratio_noise);
         }
         std::printf("}\n");
     } catch (const std::exception& e) {

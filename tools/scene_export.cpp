@@ -9,11 +9,13 @@
 // texture coordinates), the materials with every parameter their type uses, the point lights,
 // the camera, the image size and the background. The Blender bridge (scripts/blender/) builds
 // Cycles scenes from it and compares scenes through it (docs/interop.md). Numbers are written
-// with 9 significant digits, which read back to the same float.
+// with 9 significant digits, which read back to the same float; files (textures, maps) as
+// absolute paths.
 //
 // Exit status 2 for a bad scene (the lessons' message: file, line, field).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -59,10 +61,17 @@ private:
     std::string text_;
 };
 
+// Files as absolute paths: the JSON (and a .blend made from it) may be read from elsewhere.
+std::string absolute_path(const std::string& path) {
+    std::error_code error;
+    const std::filesystem::path p = std::filesystem::absolute(path, error);
+    return json_quote(error ? path : p.lexically_normal().string());
+}
+
 std::string albedo_json(const ColorTexture& t) {
     Object o;
     if (!t.image_file.empty()) {
-        o.put("texture", json_quote(t.image_file));
+        o.put("texture", absolute_path(t.image_file));
         o.put("scale", vec(t.scale, 2));
         o.put("wrap", json_quote(t.repeat ? "repeat" : "clamp"));
         if (t.image) o.put("mean", vec3(t.image->mean));
@@ -128,7 +137,7 @@ std::string export_scene(const SceneDescription& d, const Scene& scene) {
     o.put("camera", camera.str());
     Object background;
     if (!d.background_map.empty()) {
-        background.put("map", json_quote(d.background_map));
+        background.put("map", absolute_path(d.background_map));
         background.put("rotate", number(d.background_rotate));
         background.put("strength", number(d.background_strength));
     } else {

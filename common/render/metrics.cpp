@@ -95,55 +95,49 @@ MeanComparison compare_means(const Image& image, const Image& reference, int blo
     r.image_mean = total_im / pixels;
     r.reference_mean = total_ref / pixels;
     r.mean_ratio = total_ref > 0.0 ? total_im / total_ref : 0.0;
-    // The halves' relative differences, pooled over the compared blocks.
-    const auto half_noise = [&](const Image* a, const Image* b, const std::vector<bool>& use) {
-        if (!a || !b) return 0.0;
-        const std::vector<double> sa = block_sums(*a, r.block, r.blocks_x, r.blocks_y),
+    // Each block's relative variance from the halves: the mean M = (A + B) / 2 of two
+    // independent halves has Var(M) = E[(A - B)^2] / 4, so (A - B)^2 / (A + B)^2 relative to M^2
+    // (one degree of freedom per block).
+    std::vector<double> var_im(im.size(), 0.0), var_ref(im.size(), 0.0);
+    double diff2_im = 0.0, diff2_ref = 0.0;  // sums of (A - B)^2 / 4 over every block
+    const auto halves = [&](const Image& a, const Image* b, std::vector<double>& var, double& d2) {
+        if (!b) return;
+        const std::vector<double> sa = block_sums(a, r.block, r.blocks_x, r.blocks_y),
                                   sb = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
-        double sum = 0.0;
-        int n = 0;
-        for (size_t i = 0; i < sa.size(); ++i)
-            if (use[i] && sa[i] + sb[i] > 0.0) {
-                const double d = (sa[i] - sb[i]) / (sa[i] + sb[i]);
-                sum += d * d;
-                ++n;
-            }
-        return n ? sum / n : 0.0;
+        for (size_t i = 0; i < sa.size(); ++i) {
+            const double d = sa[i] - sb[i], m = sa[i] + sb[i];
+            d2 += 0.25 * d * d;
+            if (m > 0.0) var[i] = d * d / (m * m);
+        }
     };
+    halves(image, image_b, var_im, diff2_im);
+    halves(reference, reference_b, var_ref, diff2_ref);
     const double floor = 1e-3 * total_ref / static_cast<double>(im.size());
-    std::vector<bool> use(im.size());
     r.ratios.assign(im.size(), std::nan(""));
     r.ratio_min = std::numeric_limits<double>::infinity();
     r.ratio_max = -r.ratio_min;
+    double pooled = 0.0;
     for (size_t i = 0; i < im.size(); ++i) {
-        use[i] = ref[i] > floor && ref[i] > 0.0;
-        if (!use[i]) continue;
+        if (!(ref[i] > floor && ref[i] > 0.0)) continue;  // black in the reference: no ratio
         const double q = im[i] / ref[i];
         r.ratios[i] = q;
         ++r.blocks_compared;
+        pooled += var_im[i] + var_ref[i];
         r.ratio_min = std::min(r.ratio_min, q);
         r.ratio_max = std::max(r.ratio_max, q);
-        if (std::fabs(q - 1.0) >= std::fabs(r.worst_ratio - 1.0) || r.blocks_compared == 1) {
+        if (r.blocks_compared == 1 || std::fabs(q - 1.0) > std::fabs(r.worst_ratio - 1.0)) {
             r.worst_ratio = q;
+            r.worst_ratio_noise = std::sqrt(var_im[i] + var_ref[i]);
             r.worst_x = static_cast<int>(i % r.blocks_x) * r.block;
             r.worst_y = static_cast<int>(i / r.blocks_x) * r.block;
         }
     }
     if (r.blocks_compared == 0) r.ratio_min = r.ratio_max = 0.0;
-    const double v_im = half_noise(&image, image_b, use), v_ref = half_noise(&reference, reference_b, use);
-    r.block_ratio_noise = std::sqrt(v_im + v_ref);
-    // The whole mean's relative variance: the blocks' own, weighted by their squared shares
-    // (the blocks' noise is independent).
-    if ((image_b || reference_b) && total_im > 0.0 && total_ref > 0.0) {
-        double w_im = 0.0, w_ref = 0.0;
-        for (size_t i = 0; i < im.size(); ++i)
-            if (use[i]) {
-                w_im += im[i] * im[i];
-                w_ref += ref[i] * ref[i];
-            }
-        r.mean_ratio_noise = std::sqrt(v_im * w_im / (total_im * total_im) +
-                                       v_ref * w_ref / (total_ref * total_ref));
-    }
+    if (r.blocks_compared > 0) r.block_ratio_noise = std::sqrt(pooled / r.blocks_compared);
+    // The whole mean: the blocks' noise is independent, so Var(total) = sum of the blocks'.
+    if ((image_b || reference_b) && total_im > 0.0 && total_ref > 0.0)
+        r.mean_ratio_noise = std::sqrt(diff2_im / (total_im * total_im) +
+                                       diff2_ref / (total_ref * total_ref));
     return r;
 }
 

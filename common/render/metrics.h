@@ -33,7 +33,9 @@ ErrorMetrics compare_images(const Image& image, const Image& reference,
 // there is at least 1e-3 of its whole mean (black regions have no ratio). With the second halves
 // of both renders (independent renders of the same image; the images are then the means of the
 // halves), each ratio's noise is estimated from the halves' differences: a block mean M of two
-// halves A, B has relative standard error |A - B| / (A + B), pooled over the blocks as an RMS.
+// halves A, B has relative standard error about |A - B| / (A + B) (one degree of freedom: a
+// rough figure for one block, pooled over the blocks as an RMS); the whole mean's is
+// sqrt(sum (A - B)^2) / sum (A + B) over every block.
 struct MeanComparison {
     int block = 0;                  // side of a block, pixels (edge blocks may be smaller)
     int blocks_x = 0, blocks_y = 0;
@@ -45,6 +47,7 @@ struct MeanComparison {
     double block_ratio_noise = 0.0;  // one block ratio's standard error, pooled (0 without halves)
     int worst_x = 0, worst_y = 0;    // the block whose ratio is farthest from 1 (its top-left pixel)
     double worst_ratio = 1.0;
+    double worst_ratio_noise = 0.0;  // that block's own standard error (one degree of freedom)
     std::vector<double> ratios;  // row-major over the blocks; NaN where not compared
 };
 // image_b and reference_b: the second halves, or null. Throws InputError on different sizes.

@@ -6,8 +6,9 @@ A teacher builds a scene in Blender and renders it with the lessons. What is exp
 Cycles would render, after modifiers and geometry nodes, in world coordinates:
 
   meshes        one OBJ file per object and material (DIR/meshes/), placed by the TOML's
-                `material`: positions, texture coordinates (the active UV map), and shading
-                normals for smooth faces (Blender's split normals, custom ones included)
+                `material`: the triangles Blender renders (its loop triangles), texture
+                coordinates (the active UV map), and shading normals for smooth faces
+                (Blender's split normals, custom ones included)
   quads         objects tagged lessons_shape = "quads" (toml_to_blender makes them) whose faces
                 are parallelograms: `type = "quad"` shapes, corner v0, edges v1 - v0, v3 - v0
   point clouds  (geometry nodes' points, which Cycles renders as spheres): spheres
@@ -113,7 +114,8 @@ class MaterialReader:
             cells = [max(1, round(su * scale)), max(1, round(sv * scale))]
             return f"{{ checker = [{vec(even)}, {vec(odd)}], cells = [{cells[0]}, {cells[1]}] }}"
         if node.type == "TEX_IMAGE" and node.image is not None:
-            path = bpy.path.abspath(node.image.filepath, library=node.image.library)
+            path = node.image.get("lessons_file") or bpy.path.abspath(
+                node.image.filepath, library=node.image.library)
             if not path or not os.path.exists(path):
                 note(f"{what}: image '{node.image.name}' is not a file on disk: its mean is not "
                      "known here, grey 0.5 used")
@@ -181,6 +183,9 @@ class MaterialReader:
             color = clamp01(node.inputs["Color"].default_value, f"material '{name}' colour")
             r = float(node.inputs["Roughness"].default_value)
             if node.distribution == "SHARP" or r * r < 1e-4:
+                if result.get("bsdf"):
+                    note(f"material '{name}': a sharp Glossy BSDF with another shader becomes a "
+                         "mirror alone (the lessons have no coated materials)")
                 result["bsdf"] = {"type": '"mirror"', "reflectance": vec(color)}
                 return
             alpha = min(1.0, r * r)
@@ -241,7 +246,7 @@ class MaterialReader:
             result["emission"] = ([float(c) * strength for c in emission[:3]], True)
 
     def read(self, material):
-        name = material.name
+        name = material.name_full
         result = {}
         output = None
         if material.use_nodes and material.node_tree:
@@ -257,6 +262,17 @@ class MaterialReader:
             self.shader(surface, name, result)
         bsdf = result.get("bsdf") or {"type": '"diffuse"', "albedo": vec([0.0, 0.0, 0.0])}
         bsdf.pop("lobe", None)
+        if bsdf["type"] == '"glossy"' and bsdf["albedo"].startswith("["):
+            # The lessons' glossy material may reflect at most all it receives: albedo +
+            # specular <= 1 in every channel (docs/scene-format.md).
+            albedo = [float(x) for x in bsdf["albedo"].strip("[]").split(",")]
+            specular = [float(x) for x in bsdf["specular"].strip("[]").split(",")]
+            total = max(a + b for a, b in zip(albedo, specular))
+            if total > 1.0:
+                note(f"material '{name}': diffuse + glossy reflect {total:.3g} > 1: both scaled "
+                     f"by {1.0 / total:.4g}")
+                bsdf["albedo"] = vec([a / total for a in albedo])
+                bsdf["specular"] = vec([b / total for b in specular])
         lines = [f"[materials.{toml_key(name)}]"]
         for key, text in bsdf.items():
             lines.append(f"{key} = {text}")
@@ -282,7 +298,8 @@ def mesh_in_world(obj, matrix):
 
 def is_parallelogram(p0, p1, p2, p3):
     u, v = p1 - p0, p3 - p0
-    size = max(u.length, v.length)
+    # Blender's float rounding grows with the coordinates, not with the edges.
+    size = max(u.length, v.length, p0.length, p2.length)
     return (p0 + u + v - p2).length <= 1e-6 * size and u.cross(v).length > 0.0
 
 
@@ -295,13 +312,19 @@ class Exporter:
         self.obj_names = set()
 
     def material_name(self, material):
+        """The TOML name of a Blender material (None: faces without one, given a grey)."""
         if material is None:
             if None not in self.used_materials:
-                note("faces without a material: grey diffuse 'default'")
-            self.used_materials[None] = "default"
-            return "default"
-        self.used_materials[material.name] = material
-        return material.name
+                taken = {m.name_full for m in bpy.data.materials}
+                name, k = "default", 1
+                while name in taken:
+                    k += 1
+                    name = f"default_{k}"
+                note(f"faces without a material: grey diffuse '{name}'")
+                self.used_materials[None] = name
+            return self.used_materials[None]
+        self.used_materials[material.name_full] = material
+        return material.name_full
 
     def unique_file(self, base):
         safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in base) or "mesh"
@@ -341,8 +364,11 @@ class Exporter:
         normal_matrix = matrix.to_3x3().inverted_safe().transposed()
         mirrored = matrix.determinant() < 0.0
         uv_layer = mesh.uv_layers.active
+        # Triangles as Blender triangulates the faces for rendering (a non-planar quad or an
+        # n-gon would be split along other diagonals by the OBJ reader).
+        mesh.calc_loop_triangles()
         by_material = {}
-        for p in mesh.polygons:
+        for p in mesh.loop_triangles:
             by_material.setdefault(min(p.material_index, len(materials) - 1), []).append(p)
         os.makedirs(self.mesh_dir, exist_ok=True)
         for index, polygons in sorted(by_material.items()):
@@ -352,7 +378,7 @@ class Exporter:
                      "exported by scripts/blender/blender_to_toml.py (y up)"]
             vertex_index, vt_count, vn_count, faces = {}, 0, 0, []
             for p in polygons:
-                loops = list(p.loop_indices)
+                loops = list(p.loops)
                 if mirrored:
                     loops.reverse()
                 face = []
@@ -506,13 +532,19 @@ def world_text(scene, out_dir):
             note(f"the environment image '{image.name}' is written as {path}")
         if texture.projection != "EQUIRECTANGULAR":
             note("the environment's mirror-ball projection is read as equirectangular")
-        rotate = 0.0
+        # Cycles' u = 0 looks along -X, ours along +x (toml_to_blender.py): half a turn apart.
+        turn = 0.0
         mapping = linked_node(texture.inputs["Vector"])
         if mapping is not None and mapping.type == "MAPPING":
             r = mapping.inputs["Rotation"].default_value
             if abs(r[0]) > 1e-7 or abs(r[1]) > 1e-7:
                 note("the environment's tilt (rotation about x or y) is left out")
-            rotate = -math.degrees(r[2])
+            if mapping.vector_type not in ("POINT", "VECTOR"):
+                note(f"the environment's {mapping.vector_type.lower()} mapping is read as a point "
+                     "mapping")
+            turn = float(r[2])
+        rotate = 180.0 - math.degrees(turn)
+        rotate = (rotate + 180.0) % 360.0 - 180.0
         if strength <= 0.0:
             return ""
         return (f"[background]\nmap = {toml_string(os.path.abspath(path))}\n"
@@ -524,6 +556,9 @@ def world_text(scene, out_dir):
 
 
 def main():
+    if bpy.app.version >= (4, 0, 0):
+        raise SystemExit("blender_to_toml: written for Blender 3.x (Debian 12's 3.4); Blender "
+                         f"{bpy.app.version_string} renamed the shader inputs it reads")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(prog="blender_to_toml.py",
                                      description="Export the open Blender scene to a suite TOML.")
@@ -538,9 +573,10 @@ def main():
         raise SystemExit("blender_to_toml: nothing to export: no meshes, points or point lights")
     reader = MaterialReader(exporter.out_dir)
     materials = []
-    for name, material in exporter.used_materials.items():
-        if material == "default":
-            materials.append('[materials.default]\ntype = "diffuse"\nalbedo = [0.8, 0.8, 0.8]')
+    for key, material in exporter.used_materials.items():
+        if key is None:
+            materials.append(f'[materials.{toml_key(material)}]\ntype = "diffuse"\n'
+                             'albedo = [0.8, 0.8, 0.8]')
         else:
             materials.append(reader.read(material))
     source = bpy.data.filepath or "an unsaved Blender scene"

@@ -17,8 +17,9 @@ as "toml_to_blender: approximated: ..." (docs/interop.md has the table).
                 with (u, v) as the face's UV; tagged lessons_shape = "quads"
   spheres       a point cloud (Geometry Nodes' Mesh to Points): Cycles renders each point as a
                 true sphere, as the lessons do; but a ray inside such a point does not hit it,
-                so glass spheres are smooth UV-sphere meshes of 256 x 128 segments, tagged
-                lessons_shape = "sphere" (and every sphere with --sphere-mesh N)
+                and Cycles samples only triangles as lights, so glass and emitting spheres are
+                smooth UV-sphere meshes of 256 x 128 segments, tagged lessons_shape = "sphere"
+                (and every sphere with --sphere-mesh N)
   triangles     one mesh per material, smooth faces with the shading normals as custom normals
   diffuse       Diffuse BSDF, roughness 0 (Lambert)
   glossy        Diffuse BSDF + Glossy BSDF (Beckmann, roughness sqrt(alpha)): approximated, the
@@ -30,7 +31,8 @@ as "toml_to_blender: approximated: ..." (docs/interop.md has the table).
                 Fresnel-weighted mix of a Refraction BSDF (the tint) and a sharp white Glossy
   emission      Emission added to the surface's BSDF; one-sided emission is zero on back faces
   checker       Checker Texture over UV scaled by the cells (Cycles' odd cells are Color1)
-  texture       Image Texture, linear interpolation, repeat or extend, sRGB for PNG/JPEG
+  texture       Image Texture, linear interpolation, repeat or extend; an 8-bit image decoded
+                to linear floats first (interpolated after decoding, as ours)
   point light   a point light of radius 0: Cycles' intensity is power / (4 pi) W/sr
   background    the world's Background: a colour, or the map as an Environment Texture
                 (closest texel: the lessons' map is piecewise constant)
@@ -136,16 +138,44 @@ def albedo_socket(nodes, albedo, name):
     su, sv = albedo["scale"]
     mapping.inputs["Scale"].default_value = (su, sv, 1.0)
     image_node = nodes.new("ShaderNodeTexImage")
-    image = bpy.data.images.load(albedo["texture"], check_existing=True)
-    if albedo["texture"].lower().endswith(".exr"):
-        image.colorspace_settings.name = "Linear"
-    else:
-        image.colorspace_settings.name = "sRGB"
-    image_node.image = image
+    image_node.image = linear_texture(albedo["texture"])
     image_node.interpolation = "Linear"
     image_node.extension = "REPEAT" if albedo["wrap"] == "repeat" else "EXTEND"
     nodes.link(mapping.outputs["Vector"], image_node.inputs["Vector"])
     return None, image_node.outputs["Color"]
+
+
+_textures = {}
+
+
+def linear_texture(path):
+    """The image as linear floats, as the lessons hold it. Cycles would keep an 8-bit sRGB image
+    as bytes and interpolate the encoded values, which darkens every edge between light and dark
+    texels (3% on scenes/sky_map.toml's tiles); so 8-bit images are decoded here by the sRGB
+    curve into a float image, packed into the .blend. The file it came from is kept in the image's
+    lessons_file property (blender_to_toml names it)."""
+    if path in _textures:
+        return _textures[path]
+    image = bpy.data.images.load(path, check_existing=True)
+    if path.lower().endswith(".exr"):
+        image.colorspace_settings.name = "Linear"
+    elif not image.is_float:
+        w, h = image.size
+        encoded = np.empty(w * h * 4, dtype=np.float32)
+        image.pixels.foreach_get(encoded)
+        rgb = encoded.reshape(-1, 4)[:, :3]
+        # The sRGB decoding curve (IEC 61966-2-1), as io/texture.cpp applies it.
+        rgb[:] = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+        decoded = bpy.data.images.new(os.path.basename(path), w, h, alpha=False,
+                                      float_buffer=True)
+        decoded.colorspace_settings.name = "Linear"
+        decoded.pixels.foreach_set(encoded)
+        decoded.pack()
+        bpy.data.images.remove(image)
+        image = decoded
+    image["lessons_file"] = os.path.abspath(path)
+    _textures[path] = image
+    return image
 
 
 def set_color(nodes, shader, socket_name, albedo, name):
@@ -326,6 +356,11 @@ def add_triangles(scene, mesh_json, materials, export):
         # Without texture coordinates the lessons use each triangle's barycentric (u, v), which
         # only matters to a checker; Blender's mesh then has no UV map either.
         uvs = uv_all[mine.ravel()] if uv_all is not None else None
+        albedo = export["materials"][index].get("albedo", {})
+        if uvs is None and "checker" in albedo:
+            note(f"material '{materials[index].name}' on a mesh without texture coordinates: "
+                 "the lessons' checker follows each triangle's barycentric (u, v), Cycles' is "
+                 "looked up at (0, 0)")
         face_smooth = smooth[tri_material == index]
         loop_normals = None
         if normals is not None and face_smooth.any():
@@ -424,11 +459,14 @@ def set_world(scene, background):
         environment.image.colorspace_settings.name = "Linear"
         environment.interpolation = "Closest"
         environment.projection = "EQUIRECTANGULAR"
-        # Blender's equirectangular u is ours (phi from +x towards +z) at rotate 0; our rotate
-        # adds to phi, which is a turn of the lookup direction about Blender's z by -rotate.
+        # Our column u = (phi + rotate) / 2 pi, phi from +x towards +z (Blender's -y); Cycles'
+        # u = 0.5 - atan2(Y, X) / 2 pi, so u = 0 looks along -X: ours is Cycles' turned by half
+        # a turn, and our rotate turns the lookup direction about Blender's z by -rotate.
         coordinates = tree.nodes.new("ShaderNodeTexCoord")
         mapping = tree.nodes.new("ShaderNodeMapping")
-        mapping.inputs["Rotation"].default_value = (0.0, 0.0, -math.radians(background["rotate"]))
+        mapping.vector_type = "POINT"
+        mapping.inputs["Rotation"].default_value = (
+            0.0, 0.0, math.pi - math.radians(background["rotate"]))
         tree.links.new(coordinates.outputs["Generated"], mapping.inputs["Vector"])
         tree.links.new(mapping.outputs["Vector"], environment.inputs["Vector"])
         tree.links.new(environment.outputs["Color"], node.inputs["Color"])
@@ -496,15 +534,21 @@ def build(export, width=None, height=None, sphere_mesh=0):
     materials = [make_material(m) for m in export["materials"]]
     add_quads(scene, export["quads"], materials)
     add_triangles(scene, export["mesh"], materials, export)
-    # Cycles' points are exact spheres seen from outside, but a ray inside one does not hit it:
-    # glass spheres (and all, with --sphere-mesh) are smooth meshes instead.
+    # Cycles' points are exact spheres seen from outside, but a ray inside one does not hit it,
+    # and Cycles samples only triangles as lights: glass and emitting spheres (and all, with
+    # --sphere-mesh) are smooth meshes instead.
     spheres = export["spheres"]
-    as_mesh = [s for s in spheres
-               if sphere_mesh or export["materials"][s["material"]]["type"] == "glass"]
+
+    def needs_mesh(s):
+        m = export["materials"][s["material"]]
+        return sphere_mesh or m["type"] == "glass" or not is_black(m["emission"])
+
+    as_mesh = [s for s in spheres if needs_mesh(s)]
     if as_mesh:
         segments = sphere_mesh or GLASS_SPHERE_SEGMENTS
         note(f"{len(as_mesh)} sphere(s) as smooth UV-sphere meshes of {2 * segments} x "
-             f"{segments} segments (Cycles' points cannot be entered by a ray)")
+             f"{segments} segments (Cycles' points are not entered by rays nor sampled as "
+             "lights)")
         add_sphere_meshes(scene, as_mesh, materials, segments)
     add_spheres(scene, [s for s in spheres if not any(s is t for t in as_mesh)], materials, export)
     add_point_lights(scene, export["point_lights"])
@@ -576,6 +620,9 @@ def render(scene, out, png=None):
 
 
 def main():
+    if bpy.app.version >= (4, 0, 0):
+        raise SystemExit("toml_to_blender: written for Blender 3.x (Debian 12's 3.4); Blender "
+                         f"{bpy.app.version_string} changed the node and mesh interfaces it uses")
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     parser = argparse.ArgumentParser(prog="toml_to_blender.py",
                                      description="Build a suite scene in Blender for Cycles.")
