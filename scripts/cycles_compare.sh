@@ -74,7 +74,7 @@ SIZE_ARGS=()
 [ -z "$WIDTH" ] || SIZE_ARGS+=(--width "$WIDTH")
 [ -z "$HEIGHT" ] || SIZE_ARGS+=(--height "$HEIGHT")
 # The cached renders are of one scene (as loaded), size and lesson: DIR/stamp says which.
-STAMP="scene $(sha256sum < "$JSON" | cut -c1-16), size ${WIDTH:-scene}x${HEIGHT:-scene}, lesson $LESSON"
+STAMP="scene $(sha256sum < "$JSON" | cut -c1-16), size ${WIDTH:-scene}x${HEIGHT:-scene}, lesson $LESSON, references by independent samples"
 if [ -f "$DIR/stamp" ] && [ "$(cat "$DIR/stamp")" != "$STAMP" ]; then
     echo "error: $DIR holds renders of another scene, size or lesson ($(cat "$DIR/stamp")); use another --dir or delete it" >&2
     exit 2
@@ -104,21 +104,23 @@ cycles() {
     echo "cycles,$spp,$seconds,$(basename "$file")" >> "$CSV"
 }
 
-# ours SPP SEED NAME: DIR/NAME.exr by the lesson, unless it exists.
+# ours SPP SEED NAME [FLAG ...]: DIR/NAME.exr by the lesson, unless it exists.
 ours() {
-    local spp="$1" seed="$2" file="$DIR/$3.exr"
+    local spp="$1" seed="$2" file="$DIR/$3.exr" name="$3"
+    shift 3
     [ -f "$file" ] && { echo "cached: $file"; return; }
     echo "lesson $LESSON: $file ($spp spp, seed $seed)"
     "$PROGRAM" --scene "$SCENE" --spp "$spp" --seed "$seed" --threads "$THREADS" \
-        "${SIZE_ARGS[@]}" --out "$DIR/$3.tmp" --report "$DIR/$3.json" --quiet
-    mv "$DIR/$3.tmp.exr" "$file"
-    rm -f "$DIR/$3.tmp.png"
-    echo "ours,$spp,$(field "$DIR/$3.json" seconds),$(basename "$file")" >> "$CSV"
+        "${SIZE_ARGS[@]}" "$@" --out "$DIR/$name.tmp" --report "$DIR/$name.json" --quiet
+    mv "$DIR/$name.tmp.exr" "$file"
+    rm -f "$DIR/$name.tmp.png"
+    echo "ours,$spp,$(field "$DIR/$name.json" seconds),$(basename "$file")" >> "$CSV"
 }
 
 for seed in 1 2; do
     cycles "$REF_SPP" "$seed" "cycles_ref_${REF_SPP}spp_seed$seed"
-    ours "$REF_SPP" "$seed" "ours_ref_${REF_SPP}spp_seed$seed"
+    # Our reference by independent numbers: not the estimator of the runs it judges.
+    ours "$REF_SPP" "$seed" "ours_ref_${REF_SPP}spp_seed$seed" --sampler independent
 done
 for spp in "${SPP_LIST[@]}"; do
     cycles "$spp" $((1000 + spp)) "cycles_${spp}spp"

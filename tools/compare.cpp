@@ -118,7 +118,9 @@ int main(int argc, char** argv) {
     app.add_option("--variance", variance_path,
                    "The image's per-pixel variance of the mean (a lesson's --variance EXR): with "
                    "it, \"bias2\" estimates the MSE the image converges to, its squared bias: "
-                   "mse minus the mean variance of the image and of the reference");
+                   "mse minus the mean variance of the image and of the reference (renders of "
+                   "--sampler independent: a stratified sampler's variance image is not its "
+                   "error)");
     app.add_option("--reference-variance", reference_variance_path,
                    "The reference's per-pixel variance of the mean, for bias2");
     int blocks = 0;

@@ -68,7 +68,8 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "With --reference: write a CSV of seconds, spp and each error metric after 1, "
                    "2, 4, 8, ... samples per pixel (the measuring is not counted as time)");
     app.add_option("--variance", o.variance,
-                   "Write the per-pixel sample variance of the mean as PREFIX.exr");
+                   "Write the per-pixel sample variance of the mean as PREFIX.exr (it measures the "
+                   "error of the mean only for independent samples: --sampler independent)");
     app.add_option("--naive", o.naive,
                    "Use the naive methods the suite replaces, to see them fail: epsilon=E (a "
                    "fixed ray offset), quadratic (textbook sphere test in float), "
@@ -78,10 +79,11 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
         ->delimiter(',');
     app.add_option(
            "--sampler", o.sampler,
-           "Where each sample's random numbers come from: independent (PCG32, the "
-           "default), kronecker (a randomised Kronecker sequence per pixel, the positions "
-           "in the pixel from a scrambled Sobol sequence), or sobol (Owen-scrambled Sobol "
-           "points, each pair of dimensions shuffled apart): stratified, still unbiased")
+           "Where each sample's random numbers come from: kronecker (the default: a "
+           "randomised Kronecker sequence per pixel, the positions in the pixel from a "
+           "scrambled Sobol sequence), sobol (Owen-scrambled Sobol points, each pair of "
+           "dimensions shuffled apart), both stratified and unbiased, or independent (PCG32: "
+           "the error falls as 1/N, the rate the lessons page shows)")
         ->check(CLI::IsMember({"independent", "kronecker", "sobol"}));
     app.add_option("--albedo", o.albedo,
                    "Make every diffuse reflectance (diffuse and glossy materials) this grey, in "
@@ -531,6 +533,11 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
                          lesson.name + " splats light from every pixel's light subpath onto "
                                        "pixels anywhere in the image, so a crop cannot hold its "
                                        "part: split it by --samples only");
+    if (!o.variance.empty() && o.sampler != "independent")
+        in.model.notes.push_back("--variance: the samples are stratified (--sampler " + o.sampler +
+                                 "), so the sample variance / N is not the error of the mean "
+                                 "(usually above it, below it for rare events such as a light "
+                                 "path few samples take); --sampler independent measures it");
     if (o.albedo >= 0.0f)
         in.model.notes.push_back("--albedo: every diffuse reflectance is grey " +
                                  std::to_string(o.albedo) + " (the scene's own are ignored)");

@@ -45,7 +45,9 @@ struct CommonOptions {
     std::string variance;            // prefix of an EXR of the per-pixel variance of the mean
     std::vector<std::string> naive;  // naive methods to demonstrate (docs/robustness.md)
     float clamp = 0.0f;              // > 0: clamp sample luminance (biased)
-    std::string sampler = "independent";  // or "kronecker" (RenderSettings::kronecker)
+    // Stratified by default (--sampler): unbiased in every lesson, even in every dimension at
+    // every sample count, and the lowest error measured (docs/performance.md, "The default").
+    std::string sampler = "kronecker";  // or "sobol", "independent" (RenderSettings::Sampler)
     float albedo = -1.0f;  // >= 0: every diffuse reflectance becomes this grey (the furnace demo)
     InputLimits limits;    // the largest scene file and mesh files read (--max-scene-mb, ...)
     // A part of a render split across jobs (docs/farm.md): --samples A:B and --pixels

@@ -69,7 +69,7 @@ function paramsOf(i) {
     '--width': $('width').value, '--height': $('height').value, '--seed': $('seed').value,
     '--spp': $('spp').value,
   };
-  if ($('sampler').value !== 'independent') p['--sampler'] = $('sampler').value;
+  if ($('sampler').value !== 'kronecker') p['--sampler'] = $('sampler').value;
   if ($('albedo-on').checked) p['--albedo'] = $('albedo').value;
   for (const [flag, input] of Object.entries(pane.inputs)) {
     if (input.type === 'checkbox') { if (input.checked) p[flag] = '1'; }
@@ -84,7 +84,7 @@ function applyParams(i, params) {
   if (i === 0) {
     $('scene').value = params.scene;
     for (const key of ['width', 'height', 'seed', 'spp']) if (params['--' + key]) $(key).value = params['--' + key];
-    $('sampler').value = params['--sampler'] || 'independent';
+    $('sampler').value = params['--sampler'] || 'kronecker';
     $('albedo-on').checked = params['--albedo'] !== undefined;
     if (params['--albedo'] !== undefined) $('albedo').value = params['--albedo'];
   }
@@ -315,7 +315,8 @@ async function showProbe() {
       rows.push(['material', `${p.hit.material} (${p.hit.type})`, '']);
     } else rows.push(['surface', 'none: the ray escapes to the background', '']);
     rows.push(['radiance L (mean)', triple(p.L), p.L_units]);
-    rows.push(['L standard error', triple(p.L_standard_error, 2), p.L_units]);
+    rows.push(['L standard error', triple(p.L_standard_error, 2) +
+      ($('sampler').value !== 'independent' ? ' (from the sample variance: the error only for the independent sampler)' : ''), p.L_units]);
     if (p.hit) {
       rows.push(['direct irradiance E', triple(p.E), p.E_units]);
       rows.push(['E standard error', triple(p.E_standard_error, 2) + ` (${p.E_samples} light samples)`, p.E_units]);
