@@ -74,9 +74,9 @@ SIZE_ARGS=()
 [ -z "$WIDTH" ] || SIZE_ARGS+=(--width "$WIDTH")
 [ -z "$HEIGHT" ] || SIZE_ARGS+=(--height "$HEIGHT")
 # The cached renders are of one scene (as loaded), size and lesson: DIR/stamp says which.
-STAMP="scene $(sha256sum < "$JSON" | cut -c1-16), size ${WIDTH:-scene}x${HEIGHT:-scene}, lesson $LESSON, references by independent samples"
+STAMP="scene $(sha256sum < "$JSON" | cut -c1-16), size ${WIDTH:-scene}x${HEIGHT:-scene}, lesson $LESSON, its default sampler (kronecker), references by independent samples"
 if [ -f "$DIR/stamp" ] && [ "$(cat "$DIR/stamp")" != "$STAMP" ]; then
-    echo "error: $DIR holds renders of another scene, size or lesson ($(cat "$DIR/stamp")); use another --dir or delete it" >&2
+    echo "error: $DIR holds renders of another scene, size, lesson or sampler ($(cat "$DIR/stamp")); use another --dir or delete it" >&2
     exit 2
 fi
 echo "$STAMP" > "$DIR/stamp"

@@ -7,7 +7,8 @@
 #      settings are unchanged);
 #   2. run the five lessons at equal time budgets, recording error against time;
 #   3. run lesson 3's five estimators, lesson 4 without next-event estimation and lesson 5's
-#      light tracing alone;
+#      light tracing alone (all of independent samples), and lesson 4 with its default,
+#      stratified sampler;
 #   4. plot MSE against seconds, log-log, every run on one chart (gnuplot: SVG and PNG);
 #   5. estimate each run's converged error, its squared bias (MSE minus the variances of the run
 #      and of the reference), with the reasons its model gives;
@@ -183,8 +184,8 @@ EOF
 <div class=\"row\">$errors</div>
 <h3>Error against time</h3>
 <img class=\"plot\" src=\"$scene/convergence.svg\" alt=\"MSE against seconds\">
-<p>Every run but one draws independent random numbers (<code>--sampler independent</code>): its
-MSE falls as 1/N, a line of slope -1 here. The lessons' default sampler stratifies each pixel's
+<p>Every run but one draws independent random numbers (<code>--sampler independent</code>): an
+unbiased one's MSE falls as 1/N, a line of slope -1 here. The lessons' default sampler stratifies each pixel's
 samples (<code>--sampler kronecker</code>, the line \"4 stratified\"): the same estimator as lesson 4,
 unbiased, whose error falls faster, because its samples cannot clump.</p>
 <h3>Converged error: what more time cannot fix</h3>

@@ -7,15 +7,17 @@
 #      halves whose own noise is estimated and subtracted (tools/compare --second-half).
 # Installs libembree-dev and blender (Debian's) first when missing; both are optional for the
 # suite itself. References are cached in out/perf/ and out/cycles/ (delete them to redo them).
-# Usage: scripts/performance.sh [--quick | --bench | --renders]
+# Usage: scripts/performance.sh [--quick | --bench | --renders | --scaling]
 #   --quick: bench_bvh --quick only (under a minute); --bench: bench_bvh only; --renders: the
-#   comparison with Cycles only. Environment: REF_SPP (default 512 per half), SPP_LIST.
+#   comparison with Cycles only; --scaling: bench_bvh --scaling only (10k to 10M triangles,
+#   about 2 minutes and 3.3 GB), with a log-log plot (out/perf/scaling.svg, gnuplot). The full
+#   run does all of them. Environment: REF_SPP (default 512 per half), SPP_LIST.
 set -euo pipefail
 
 MODE="${1:-full}"
 case "$MODE" in
-    full | --quick | --bench | --renders) ;;
-    *) echo "usage: scripts/performance.sh [--quick | --bench | --renders]" >&2; exit 2 ;;
+    full | --quick | --bench | --renders | --scaling) ;;
+    *) echo "usage: scripts/performance.sh [--quick | --bench | --renders | --scaling]" >&2; exit 2 ;;
 esac
 
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
@@ -33,8 +35,30 @@ if [ "$MODE" = --quick ]; then
     "$BIN/bench_bvh" --quick --csv "$OUT/bench_quick.csv"
     exit 0
 fi
-if [ "$MODE" != --renders ]; then "$BIN/bench_bvh" --csv "$OUT/bench.csv"; fi
+if [ "$MODE" = full ] || [ "$MODE" = --bench ]; then "$BIN/bench_bvh" --csv "$OUT/bench.csv"; fi
 [ "$MODE" = --bench ] && exit 0
+if [ "$MODE" = full ] || [ "$MODE" = --scaling ]; then
+    # How cost grows: build time, memory and random-ray throughput against the triangle count.
+    install_missing_packages gnuplot-nox
+    "$BIN/bench_bvh" --scaling --csv "$OUT/scaling.csv"
+    gnuplot <<PLOT
+set terminal svg size 900,320 font "sans,11"
+set output '$OUT/scaling.svg'
+set datafile separator ','
+set logscale xy
+set xlabel 'triangles'
+set multiplot layout 1,3
+set title 'build, 1 thread (ms)'
+plot '$OUT/scaling.csv' every ::1 using 1:2 with linespoints title 'ours', '' every ::1 using 1:3 with linespoints title 'Embree'
+set title 'memory with the BVH (bytes)'
+plot '$OUT/scaling.csv' every ::1 using 1:4 with linespoints title 'ours', '' every ::1 using 1:5 with linespoints title 'Embree'
+set title 'random rays, closest hit (Mrays/s)'
+plot '$OUT/scaling.csv' every ::1 using 1:6 with linespoints title 'ours', '' every ::1 using 1:7 with linespoints title 'Embree'
+unset multiplot
+PLOT
+    echo "plot: $OUT/scaling.svg"
+fi
+[ "$MODE" = --scaling ] && exit 0
 
 # ---- the whole renderer: lesson 4 and Cycles on the Cornell box of Ray Tracing in One Weekend ----
 SCENE=scenes/cornell_box_rtiow.toml

@@ -360,6 +360,80 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
     std::cout << "wrote " << path << "\n";
 }
 
+// ---- --scaling: how cost grows with the triangle count ----
+
+// A number in a row's note after `key` (e.g. "ours 104.2 B/tri": key "ours "), or NaN.
+double note_number(const std::string& note, const std::string& key) {
+    const size_t at = note.find(key);
+    return at == std::string::npos ? std::nan("") : std::atof(note.c_str() + at + key.size());
+}
+
+struct ScalingPoint {
+    double triangles = 0, ours_ms = 0, embree_ms = NAN, ours_bytes = 0, embree_bytes = NAN,
+           ours_mrays = 0, embree_mrays = NAN;
+};
+
+std::vector<ScalingPoint> scaling_points(const std::vector<Row>& rows, int threads) {
+    std::vector<ScalingPoint> points;
+    for (const Row& r : rows) {
+        if (r.rays != "build") continue;
+        ScalingPoint p;
+        p.triangles = static_cast<double>(r.triangles);
+        p.ours_ms = r.ours;
+        p.embree_ms = r.embree ? *r.embree : NAN;
+        p.ours_bytes = note_number(r.note, "ours ") * p.triangles;
+        p.embree_bytes = note_number(r.note, "embree ") * p.triangles;
+        for (const Row& t : rows)
+            if (t.scene == r.scene && t.rays == "random" && t.threads == threads) {
+                p.ours_mrays = t.ours;
+                p.embree_mrays = t.embree ? *t.embree : NAN;
+            }
+        points.push_back(p);
+    }
+    return points;
+}
+
+// The least-squares slope of log y against log x: y grows as x^slope.
+double log_slope(const std::vector<ScalingPoint>& points, double ScalingPoint::*y) {
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (const ScalingPoint& p : points) {
+        if (!(p.*y > 0.0)) continue;
+        const double lx = std::log(p.triangles), ly = std::log(p.*y);
+        n += 1;
+        sx += lx;
+        sy += ly;
+        sxx += lx * lx;
+        sxy += lx * ly;
+    }
+    return n < 2 ? std::nan("") : (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+void report_scaling(const std::vector<Row>& rows, int threads) {
+    const std::vector<ScalingPoint> points = scaling_points(rows, threads);
+    std::printf("\nHow cost grows (log-log least-squares slopes over %zu sizes; random rays on %d "
+                "threads):\n",
+                points.size(), threads);
+    std::printf("  %-34s %8s %8s\n", "", "ours", "embree");
+    const auto line = [&](const char* what, double ScalingPoint::*a, double ScalingPoint::*b) {
+        std::printf("  %-34s %8.3f %8.3f\n", what, log_slope(points, a), log_slope(points, b));
+    };
+    line("build time ~ triangles^", &ScalingPoint::ours_ms, &ScalingPoint::embree_ms);
+    line("memory ~ triangles^", &ScalingPoint::ours_bytes, &ScalingPoint::embree_bytes);
+    line("closest-hit Mrays/s ~ triangles^", &ScalingPoint::ours_mrays, &ScalingPoint::embree_mrays);
+}
+
+void write_scaling_csv(const std::string& path, const std::vector<Row>& rows, int threads) {
+    std::ofstream out(path);
+    out << "triangles,ours_build_ms,embree_build_ms,ours_bytes,embree_bytes,ours_mrays,"
+           "embree_mrays\n";
+    const auto value = [](double v) { return std::isnan(v) ? std::string() : fixed(v, 3); };
+    for (const ScalingPoint& p : scaling_points(rows, threads))
+        out << fixed(p.triangles, 0) << ',' << value(p.ours_ms) << ',' << value(p.embree_ms)
+            << ',' << value(p.ours_bytes) << ',' << value(p.embree_bytes) << ','
+            << value(p.ours_mrays) << ',' << value(p.embree_mrays) << '\n';
+    std::cout << "wrote " << path << "\n";
+}
+
 int run(int argc, char** argv) {
     bool quick = false;
     std::string csv;
@@ -367,9 +441,13 @@ int run(int argc, char** argv) {
     std::vector<std::string> only_scenes, only_sets;
     std::string only_query;  // empty: both
     bool embree_robust = false;
+    bool scaling = false;
     const char* usage =
         "usage: bench_bvh [--quick] [--csv FILE] [--rays N] [--scene NAME]... [--set NAME]...\n"
-        "                 [--query closest|any] [--embree-robust]\n"
+        "                 [--query closest|any] [--embree-robust] [--scaling]\n"
+        "  --scaling: build time, memory and incoherent (random) closest-hit throughput at\n"
+        "             10k, 100k, 1M and 10M triangles, ours and Embree's, with the log-log slopes\n"
+        "             (--csv: one row per size)\n"
         "  --scene: cornell_box, sphere_10092, sphere_99372, sphere_1002252\n"
         "  --set:   primary, shadow, diffuse, random, build, render (lesson 4, Cornell box)\n"
         "  --query: closest or any (the ray sets' queries; default both)\n";
@@ -391,6 +469,8 @@ int run(int argc, char** argv) {
             only_scenes.push_back(argv[++i]);
         } else if (a == "--set" && i + 1 < argc) {
             only_sets.push_back(argv[++i]);
+        } else if (a == "--scaling") {
+            scaling = true;
         } else if (a == "--embree-robust") {
             embree_robust = true;
         } else if (a == "--query" && i + 1 < argc && only_query.empty()) {
@@ -415,7 +495,18 @@ int run(int argc, char** argv) {
         rows.push_back(r);
     };
 
-    const int sphere_sides[] = {29, 91, 289};  // 10k, 100k, 1M triangles
+    // 10k, 100k, 1M triangles; --scaling adds 10M (12 x 913^2 = 10,002,828).
+    std::vector<int> sphere_sides = {29, 91, 289};
+    if (scaling) {
+        if (!only_scenes.empty() || !only_sets.empty() || !only_query.empty() || quick) {
+            std::cerr << "bench_bvh: error: --scaling takes its own scenes, sets and query\n";
+            return 2;
+        }
+        sphere_sides.push_back(913);
+        for (int n : sphere_sides) only_scenes.push_back("sphere_" + std::to_string(12 * n * n));
+        only_sets = {"build", "random"};
+        only_query = "closest";
+    }
     for (const std::string& name : only_scenes) {
         bool known = name == "cornell_box";
         for (int n : sphere_sides) known |= name == "sphere_" + std::to_string(12 * n * n);
@@ -604,7 +695,12 @@ int run(int argc, char** argv) {
             add(r);
         }
     }
-    if (!csv.empty()) write_csv(csv, rows);
+    if (scaling) {
+        report_scaling(rows, all_threads);
+        if (!csv.empty()) write_scaling_csv(csv, rows, all_threads);
+    } else if (!csv.empty()) {
+        write_csv(csv, rows);
+    }
     return 0;
 }
 

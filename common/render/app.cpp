@@ -509,6 +509,9 @@ std::string image_options(const CLI::App& app) {
         } else {
             value = opt->get_default_str();
         }
+        // The sampler by its name even when defaulted: the default changed once (independent,
+        // then kronecker), and parts of either must not pass for each other.
+        if (name == "--sampler" && value.empty()) value = "kronecker";
         lines.push_back(name + "=" + value);
     }
     std::sort(lines.begin(), lines.end());

@@ -12,7 +12,7 @@
 // value (its own sample plus what was splatted onto it) joins the film as its sample k. The
 // order of every sum is fixed, so these images too are the same for any number of threads and
 // any split into passes, and each film sample is a whole independent estimate of its pixel (so
-// the film's variance stays right). The memory for splats is one pass's worth, at most.
+// the film's variance stays right, for independent samples: --sampler independent). The memory for splats is one pass's worth, at most.
 #pragma once
 
 #include <atomic>

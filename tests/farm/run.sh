@@ -82,7 +82,7 @@ merge)
     check_lesson 03_reflection_equation l3 --scene scenes/cornell_box.toml
     check_lesson 03_reflection_equation l3u --scene scenes/cornell_box.toml --estimator uniform
     check_lesson 04_rendering_equation l4 --scene scenes/cornell_spheres.toml --bounces 2
-    check_lesson 04_rendering_equation l4k --scene scenes/cornell_box.toml --sampler kronecker \
+    check_lesson 04_rendering_equation l4i --scene scenes/cornell_box.toml --sampler independent \
         --clamp 4
     check_lesson 05_bidirectional l5 --scene scenes/cornell_spheres.toml --strategies 2
     ;;

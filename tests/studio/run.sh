@@ -19,7 +19,7 @@ CHROMIUM="$(command -v chromium || command -v chromium-browser || true)"
 
 # A reference where scripts/lessons.sh would put one, for the error chart (48 x 36 pixels).
 "$BUILD/bin/05_bidirectional" --scene "$ROOT/scenes/cornell_box.toml" --width 48 --height 36 \
-    --spp 64 --seed 1000003 --out "$WORK/refs/cornell_box/reference" \
+    --spp 64 --seed 1000003 --sampler independent --out "$WORK/refs/cornell_box/reference" \
     --variance "$WORK/refs/cornell_box/reference_variance" --quiet
 
 "$BUILD/bin/studio" --port 0 --references "$WORK/refs" --cache "$WORK/cache" --max-spp 1000000 \

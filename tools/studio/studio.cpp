@@ -537,7 +537,11 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
                    "--spp",
                    std::to_string(limits_.reference_spp),
                    "--seed",
-                   "1000003"};
+                   "1000003",
+                   // Independent samples: the chart's noise line is this render's variance,
+                   // the error of its mean only for independent samples (docs/studio.md).
+                   "--sampler",
+                   "independent"};
     if (albedo >= 0.0f) {
         state->args.push_back("--albedo");
         state->args.push_back(std::to_string(albedo));

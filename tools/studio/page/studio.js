@@ -316,7 +316,8 @@ async function showProbe() {
     } else rows.push(['surface', 'none: the ray escapes to the background', '']);
     rows.push(['radiance L (mean)', triple(p.L), p.L_units]);
     rows.push(['L standard error', triple(p.L_standard_error, 2) +
-      ($('sampler').value !== 'independent' ? ' (from the sample variance: the error only for the independent sampler)' : ''), p.L_units]);
+      ((((studio.status && studio.status.panes && studio.status.panes[pane] && studio.status.panes[pane].params) || {})['--sampler'] || 'kronecker') !== 'independent'
+        ? ' (from the sample variance: the error only for the independent sampler)' : ''), p.L_units]);
     if (p.hit) {
       rows.push(['direct irradiance E', triple(p.E), p.E_units]);
       rows.push(['E standard error', triple(p.E_standard_error, 2) + ` (${p.E_samples} light samples)`, p.E_units]);
