@@ -17,8 +17,8 @@ as "toml_to_blender: approximated: ..." (docs/interop.md has the table).
                 with (u, v) as the face's UV; tagged lessons_shape = "quads"
   spheres       a point cloud (Geometry Nodes' Mesh to Points): Cycles renders each point as a
                 true sphere, as the lessons do; but a ray inside such a point does not hit it,
-                and Cycles light-samples emitting triangles (points perhaps not), so glass and emitting spheres are
-                smooth UV-sphere meshes of 256 x 128 segments, tagged lessons_shape = "sphere"
+                and Cycles light-samples emitting triangles (points perhaps not), so glass and
+                emitting spheres are smooth UV-sphere meshes of 256 x 128 segments, tagged lessons_shape = "sphere"
                 (and every sphere with --sphere-mesh N)
   triangles     one mesh per material, smooth faces with the shading normals as custom normals
   diffuse       Diffuse BSDF, roughness 0 (Lambert)
@@ -535,8 +535,8 @@ def build(export, width=None, height=None, sphere_mesh=0):
     add_quads(scene, export["quads"], materials)
     add_triangles(scene, export["mesh"], materials, export)
     # Cycles' points are exact spheres seen from outside, but a ray inside one does not hit it,
-    # and Cycles light-samples emitting triangles (points perhaps not): glass and emitting spheres (and all, with
-    # --sphere-mesh) are smooth meshes instead.
+    # and Cycles light-samples emitting triangles (points perhaps not): glass and emitting
+    # spheres (and all, with --sphere-mesh) are smooth meshes instead.
     spheres = export["spheres"]
 
     def needs_mesh(s):
