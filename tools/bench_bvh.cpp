@@ -131,11 +131,17 @@ TriangleMesh displaced_sphere(int n) {
     return mesh;
 }
 
-Scene suite_scene(const TriangleMesh& mesh) {
+// The mesh as a scene, before commit() builds its BVH.
+Scene uncommitted_scene(const TriangleMesh& mesh) {
     Scene scene;
     Material white;
     scene.add_material(white);
     scene.add_mesh(mesh.positions, {}, {}, mesh.triangles);
+    return scene;
+}
+
+Scene suite_scene(const TriangleMesh& mesh) {
+    Scene scene = uncommitted_scene(mesh);
     scene.commit();
     return scene;
 }
@@ -371,23 +377,29 @@ double note_number(const std::string& note, const std::string& key) {
 struct ScalingPoint {
     double triangles = 0, ours_ms = 0, embree_ms = NAN, ours_bytes = 0, embree_bytes = NAN,
            ours_mrays = 0, embree_mrays = NAN;
+    double ours_all_ms = NAN, embree_all_ms = NAN;  // the build on every thread
 };
 
 std::vector<ScalingPoint> scaling_points(const std::vector<Row>& rows, int threads) {
     std::vector<ScalingPoint> points;
     for (const Row& r : rows) {
-        if (r.rays != "build") continue;
+        if (r.rays != "build" || r.threads != 1) continue;
         ScalingPoint p;
         p.triangles = static_cast<double>(r.triangles);
         p.ours_ms = r.ours;
         p.embree_ms = r.embree ? *r.embree : NAN;
         p.ours_bytes = note_number(r.note, "ours ") * p.triangles;
         p.embree_bytes = note_number(r.note, "embree ") * p.triangles;
-        for (const Row& t : rows)
+        for (const Row& t : rows) {
+            if (t.scene == r.scene && t.rays == "build" && t.threads == threads && threads > 1) {
+                p.ours_all_ms = t.ours;
+                p.embree_all_ms = t.embree ? *t.embree : NAN;
+            }
             if (t.scene == r.scene && t.rays == "random" && t.threads == threads) {
                 p.ours_mrays = t.ours;
                 p.embree_mrays = t.embree ? *t.embree : NAN;
             }
+        }
         points.push_back(p);
     }
     return points;
@@ -418,6 +430,9 @@ void report_scaling(const std::vector<Row>& rows, int threads) {
         std::printf("  %-34s %8.3f %8.3f\n", what, log_slope(points, a), log_slope(points, b));
     };
     line("build time ~ triangles^", &ScalingPoint::ours_ms, &ScalingPoint::embree_ms);
+    if (threads > 1)
+        line("build time, all threads ~ triangles^", &ScalingPoint::ours_all_ms,
+             &ScalingPoint::embree_all_ms);
     line("memory ~ triangles^", &ScalingPoint::ours_bytes, &ScalingPoint::embree_bytes);
     line("closest-hit Mrays/s ~ triangles^", &ScalingPoint::ours_mrays, &ScalingPoint::embree_mrays);
 }
@@ -425,12 +440,13 @@ void report_scaling(const std::vector<Row>& rows, int threads) {
 void write_scaling_csv(const std::string& path, const std::vector<Row>& rows, int threads) {
     std::ofstream out(path);
     out << "triangles,ours_build_ms,embree_build_ms,ours_bytes,embree_bytes,ours_mrays,"
-           "embree_mrays\n";
+           "embree_mrays,ours_build_all_threads_ms,embree_build_all_threads_ms\n";
     const auto value = [](double v) { return std::isnan(v) ? std::string() : fixed(v, 3); };
     for (const ScalingPoint& p : scaling_points(rows, threads))
         out << fixed(p.triangles, 0) << ',' << value(p.ours_ms) << ',' << value(p.embree_ms)
             << ',' << value(p.ours_bytes) << ',' << value(p.embree_bytes) << ','
-            << value(p.ours_mrays) << ',' << value(p.embree_mrays) << '\n';
+            << value(p.ours_mrays) << ',' << value(p.embree_mrays) << ','
+            << value(p.ours_all_ms) << ',' << value(p.embree_all_ms) << '\n';
     std::cout << "wrote " << path << "\n";
 }
 
@@ -557,46 +573,49 @@ int run(int argc, char** argv) {
         if (mesh_rows && wanted(only_scenes, "sphere_" + std::to_string(12 * n * n)))
             meshes.push_back(displaced_sphere(n));
 
-    // Build time and memory at every size (the value columns: milliseconds; ratio = Embree's
-    // time over ours, so above 1 means ours builds faster).
-    // Each time is the best of kPasses builds, ours and Embree's taken in turn.
+    // Build time and memory at every size, on 1 thread and on all (the value columns:
+    // milliseconds; ratio = Embree's time over ours, so above 1 means ours builds faster).
+    // Each time is the best of kPasses builds, ours and Embree's taken in turn, on 1 thread
+    // then on all, in every pass.
     for (const TriangleMesh& mesh : meshes) {
         if (!wanted(only_sets, "build")) break;
-        double ms = kInfinity, per_tri = 0.0, bvh_per_tri = 0.0;
+        std::vector<double> ms(thread_counts.size(), kInfinity);
+        double per_tri = 0.0, bvh_per_tri = 0.0;
 #ifdef LESSONS_HAVE_EMBREE
-        double embree_ms = kInfinity, embree_per_tri = 0.0, embree_2_ms = kInfinity;
+        std::vector<double> embree_ms(thread_counts.size(), kInfinity);
+        double embree_per_tri = 0.0;
 #endif
-        for (int pass = 0; pass < kPasses; ++pass) {
-            const auto start = Clock::now();
-            const Scene scene = suite_scene(mesh);
-            ms = std::min(ms, seconds_since(start) * 1e3);
-            per_tri = static_cast<double>(scene.geometry_bytes()) / mesh.triangles.size();
-            bvh_per_tri = static_cast<double>(scene.bvh().memory_bytes()) / mesh.triangles.size();
+        for (int pass = 0; pass < kPasses; ++pass)
+            for (size_t k = 0; k < thread_counts.size(); ++k) {
+                // Like Embree's, which is timed once its vertex and index buffers are filled.
+                Scene scene = uncommitted_scene(mesh);
+                const auto start = Clock::now();
+                scene.commit(thread_counts[k]);
+                ms[k] = std::min(ms[k], seconds_since(start) * 1e3);
+                per_tri = static_cast<double>(scene.geometry_bytes()) / mesh.triangles.size();
+                bvh_per_tri =
+                    static_cast<double>(scene.bvh().memory_bytes()) / mesh.triangles.size();
 #ifdef LESSONS_HAVE_EMBREE
-            const EmbreeScene e(mesh, 1, embree_robust);
-            embree_ms = std::min(embree_ms, e.build_ms);
-            embree_per_tri = e.bytes / mesh.triangles.size();
-            if (all_threads > 1)
-                embree_2_ms =
-                    std::min(embree_2_ms, EmbreeScene(mesh, all_threads, embree_robust).build_ms);
+                const EmbreeScene e(mesh, thread_counts[k], embree_robust);
+                embree_ms[k] = std::min(embree_ms[k], e.build_ms);
+                embree_per_tri = e.bytes / mesh.triangles.size();
 #endif
+            }
+        for (size_t k = 0; k < thread_counts.size(); ++k) {
+            Row r{mesh.name,
+                  mesh.triangles.size(),
+                  "build",
+                  "-",
+                  thread_counts[k],
+                  ms[k],
+                  std::nullopt,
+                  "ours " + fixed(per_tri, 1) + " B/tri (BVH " + fixed(bvh_per_tri, 1) + ")"};
+#ifdef LESSONS_HAVE_EMBREE
+            r.embree = embree_ms[k];
+            r.note += ", embree " + fixed(embree_per_tri, 1) + " B/tri";
+#endif
+            add(r);
         }
-        Row r{mesh.name,
-              mesh.triangles.size(),
-              "build",
-              "-",
-              1,
-              ms,
-              std::nullopt,
-              "ours " + fixed(per_tri, 1) + " B/tri (BVH " + fixed(bvh_per_tri, 1) + ")"};
-#ifdef LESSONS_HAVE_EMBREE
-        r.embree = embree_ms;
-        r.note += ", embree " + fixed(embree_per_tri, 1) + " B/tri";
-        if (all_threads > 1)
-            r.note += ", embree on " + std::to_string(all_threads) + " threads " +
-                      fixed(embree_2_ms, 1) + " ms";
-#endif
-        add(r);
     }
 
     // Ray throughput.

@@ -1,12 +1,19 @@
-// Binned-SAH construction of the BVH (traversal is in bvh.h).
+// Binned-SAH construction of the BVH (traversal is in bvh.h), on one thread or several.
 #include "accel/bvh.h"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <bit>
 #include <cmath>
-#include <numeric>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <system_error>
+#include <thread>
+
+#include "accel/parallel.h"
 
 namespace lessons {
 
@@ -15,11 +22,26 @@ namespace {
 constexpr int kBins = 16;
 constexpr float kTraversalCost = 1.0f;  // relative to one primitive intersection
 constexpr int kMedianSplitDepth = 64;   // deeper than this, split at the median (see kStackSize)
+// A subtree of at least this many primitives may be built by another thread, and a node of at
+// least kParallelBinning primitives is binned by every idle thread at once. Below, a thread's
+// start costs more than it saves.
+constexpr uint32_t kSubtreeTask = 4096;
+constexpr uint32_t kParallelBinning = 1u << 16;
+// A thread takes nodes from the shared array kNodeChunk at a time, so that two threads never
+// write nodes in the same cache line (nor the shared counter at every node): measured, taking
+// them two at a time made the build on two threads do 50% more work than on one. The array has
+// room for every subtree's last chunk, partly unused: at most kMaxSubtrees subtrees are handed
+// to other threads.
+constexpr uint32_t kNodeChunk = 256;
+// The passes over every primitive give each thread at least this many.
+constexpr size_t kMinPart = 16384;
+constexpr uint32_t kMaxSubtrees = 1024;
 
-// A box as two vectors of four floats (x, y, z and an unused lane), so that growing it by another
+// A box as two vectors of four floats (x, y, z and a fourth lane), so that growing it by another
 // box takes one minimum and one maximum instruction: binning does so three times per primitive
 // and node, the build's innermost loop. Bounds3 takes six scalar ones. The comparisons are
-// Bounds3::expand's, lane by lane, so the boxes (and the tree) are the same bits.
+// Bounds3::expand's, lane by lane, so the boxes (and the tree) are the same bits. The fourth lane
+// is not part of the box: a primitive's copy keeps its index there (BuildRef).
 struct Box4 {
     Float4 lo = Float4{} + kInfinity, hi = Float4{} - kInfinity;
     static Box4 of(const Bounds3& b) {
@@ -29,23 +51,54 @@ struct Box4 {
         lo = b.lo < lo ? b.lo : lo;
         hi = hi < b.hi ? b.hi : hi;
     }
+    void expand(const Float4& p) {
+        lo = p < lo ? p : lo;
+        hi = hi < p ? p : hi;
+    }
     Bounds3 bounds() const { return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}; }
 };
 
-struct Bin {
+// A primitive as the build sorts it: a copy of its box, 32 bytes, with the primitive's index in
+// the minimum's fourth lane (as bits: below 2^28, so a small positive float, never NaN), so that
+// every pass over a node's primitives reads memory in order, with no index to follow.
+struct BuildRef {
     Box4 box;
-    uint32_t count = 0;
+    static BuildRef of(const Bounds3& b, uint32_t prim) {
+        BuildRef r{Box4::of(b)};
+        r.box.lo[3] = std::bit_cast<float>(prim);
+        return r;
+    }
+    uint32_t prim() const { return std::bit_cast<uint32_t>(box.lo[3]); }
+    // Bounds3::centroid's arithmetic, in all lanes at once.
+    Float4 centroid() const { return 0.5f * (box.lo + box.hi); }
+    float centroid(int axis) const { return 0.5f * (box.lo[axis] + box.hi[axis]); }
+};
+
+// The boxes of a set of primitives and of their centroids: what a node needs to bin them.
+struct Extent {
+    Box4 box, centroids;
+    void add(const BuildRef& r) {
+        box.expand(r.box);
+        centroids.expand(r.centroid());
+    }
+    void add(const Extent& e) {
+        box.expand(e.box);
+        centroids.expand(e.centroids);
+    }
 };
 
 // The binary tree the build makes before collapsing it: 32-byte nodes, children side by side.
+// Plain floats, so that the array for every node the tree may need is not written before use.
 struct BinaryNode {
-    Bounds3 box;
+    float lo[3], hi[3];
     uint32_t first;  // interior: index of the left child (right = first + 1); leaf: first primitive
     uint32_t count;  // number of primitives in a leaf; 0 for an interior node
+    Bounds3 box() const { return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}; }
 };
 
 struct BuildTask {
     uint32_t node, begin, end, depth;
+    Extent extent;  // of primitives [begin, end)
 };
 
 struct Split {
@@ -70,13 +123,89 @@ int bin_of(float centroid, float lo, float scale) {
     return static_cast<int>(b);
 }
 
+// The bins of a node along each axis: the box and count of the primitives whose centroids fall
+// in each.
+struct Bins {
+    Box4 box[3][kBins];
+    uint32_t count[3][kBins] = {};
+
+    uint32_t occupied[3] = {};  // bit b: bin b holds a primitive
+
+    void add(const BuildRef* first, const BuildRef* last, const Float4& lo, const Float4& scale) {
+        for (const BuildRef* r = first; r != last; ++r)
+            for (int axis = 0; axis < 3; ++axis) {
+                const int b = bin_of(r->centroid(axis), lo[axis], scale[axis]);
+                box[axis][b].expand(r->box);
+                ++count[axis][b];
+                occupied[axis] |= 1u << b;
+            }
+    }
+    void add(const Bins& other) {
+        for (int axis = 0; axis < 3; ++axis)
+            for (int b = 0; b < kBins; ++b) {
+                box[axis][b].expand(other.box[axis][b]);
+                count[axis][b] += other.count[axis][b];
+            }
+        for (int axis = 0; axis < 3; ++axis) occupied[axis] |= other.occupied[axis];
+    }
+};
+
+// Starts threads for parts of the build while some of the allowed ones are idle, and joins them.
+class Workers {
+public:
+    explicit Workers(int threads) : idle_(build_threads(threads) - 1) {}
+    // Takes an idle thread, if there is one, for the caller to start with start().
+    bool claim() {
+        int n = idle_.load(std::memory_order_relaxed);
+        while (n > 0)
+            if (idle_.compare_exchange_weak(n, n - 1)) return true;
+        return false;
+    }
+    void release() { idle_.fetch_add(1); }
+    // Runs work() on a new thread (claimed before), which becomes idle again when it returns.
+    // Returns false, with the claim released, if the system refuses a thread: the caller then
+    // does the work itself.
+    template <class Work>
+    bool start(Work work) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        try {
+            started_.emplace_back([this, work] {
+                work();
+                release();
+            });
+            return true;
+        } catch (const std::system_error&) {
+            release();
+            return false;
+        }
+    }
+    // Joins every thread started, including those started by threads started.
+    void join_all() {
+        for (;;) {
+            std::thread t;
+            {
+                std::lock_guard<std::mutex> lock(mutex_);
+                if (started_.empty()) return;
+                t = std::move(started_.back());
+                started_.pop_back();
+            }
+            t.join();
+        }
+    }
+
+private:
+    std::atomic<int> idle_;
+    std::mutex mutex_;
+    std::vector<std::thread> started_;
+};
+
 // Collapses binary node b into a wide node (or, for a leaf, a leaf slot); returns the slot's
 // code for the parent. Each node adopts the two children of its largest interior child until it
 // has eight: large boxes are the ones rays enter most often (the SAH's reasoning).
 // Leaves are laid out in the final primitive order as they are reached (depth first), each
 // starting at a multiple of kLeafAlignment: order[] is filled here from the build's order.
 struct Collapse {
-    const std::vector<BinaryNode>& binary;
+    const BinaryNode* binary;
     const std::vector<uint32_t>& build_order;
     LargePageVector<BvhNode>& nodes;
     std::vector<uint32_t>& order;
@@ -99,9 +228,9 @@ uint32_t Collapse::operator()(uint32_t b) {
         float widest_area = -1.0f;
         for (int i = 0; i < used; ++i) {
             const BinaryNode& c = binary[slots[i]];
-            if (c.count == 0 && c.box.surface_area() > widest_area) {
+            if (c.count == 0 && c.box().surface_area() > widest_area) {
                 widest = i;
-                widest_area = c.box.surface_area();
+                widest_area = c.box().surface_area();
             }
         }
         if (widest < 0) break;  // every slot is a leaf
@@ -114,7 +243,7 @@ uint32_t Collapse::operator()(uint32_t b) {
     for (int axis = 0; axis < 6; ++axis)
         nodes[index].bounds[axis] = BoxLanes{} + (axis % 2 == 0 ? kInfinity : -kInfinity);
     for (int i = 0; i < used; ++i) {
-        const Bounds3& box = binary[slots[i]].box;
+        const Bounds3& box = binary[slots[i]].box();
         const uint32_t child = (*this)(slots[i]);  // may move nodes
         BvhNode& node = nodes[index];
         for (int axis = 0; axis < 3; ++axis) {
@@ -127,94 +256,176 @@ uint32_t Collapse::operator()(uint32_t b) {
     return index;
 }
 
-// A primitive as the build sorts it: a copy of its box, with its centroid and index, so that every
-// pass over a node's primitives reads memory in order (no index chasing).
-struct BuildRef {
-    Box4 box;
-    Vec3 centroid;
-    uint32_t prim;
+// The binary tree over `refs`, reordering them so that every node's primitives are contiguous;
+// node 0 is the root. Subtrees are built by as many threads as allowed, each into nodes it takes
+// from a shared counter: which thread builds what, and the nodes' numbering, vary from run to
+// run, but every node's primitives, box and split do not (binning merges per-thread bins by
+// minima, maxima and sums, whose results do not depend on the order), so the tree collapsed
+// from node 0 (Collapse, depth first) is the same bits on any number of threads.
+class BinaryBuilder {
+public:
+    BinaryBuilder(std::vector<BuildRef>& refs, int threads)
+        : refs_(refs.data()), count_(static_cast<uint32_t>(refs.size())),
+          nodes_(new BinaryNode[2 * refs.size() + size_t{kNodeChunk} * (kMaxSubtrees + 1)]),
+          workers_(threads) {}
+
+    // Every node of the tree, at most 2 n - 1; node 0 is the root.
+    std::unique_ptr<BinaryNode[]> build(const Extent& root) {
+        subtree({0, 0, count_, 0, root});
+        workers_.release();  // this thread is idle now: another may start
+        workers_.join_all();
+        return std::move(nodes_);
+    }
+    // After build(): at least the number of nodes used (some chunks' ends are unused).
+    uint32_t nodes_taken() const { return next_node_.load(); }
+
+private:
+    void subtree(BuildTask root);
+    Split cheapest_split(const BuildTask& task, Float4& scale);
+
+    BuildRef* const refs_;
+    const uint32_t count_;
+    std::unique_ptr<BinaryNode[]> nodes_;
+    std::atomic<uint32_t> next_node_{1};  // the first node of the next chunk
+    std::atomic<uint32_t> subtrees_handed_{0};
+    Workers workers_;
 };
 
-// The binned surface area heuristic for the primitives [first, last) of a node with box
-// node_box: bins their centroids along all three axes in one pass, then sweeps every axis from
+// Reorders [first, last) so that the primitives `goes_left` holds for come first, and returns
+// where the others start; `left` and `right` receive the extents of the two parts. The swaps are
+// those of libstdc++'s std::partition, so the order is that of the build before the extents
+// were gathered here (which saved the children a pass over their primitives).
+template <class GoesLeft>
+BuildRef* partition(BuildRef* first, BuildRef* last, GoesLeft goes_left, Extent& left,
+                    Extent& right) {
+    for (;;) {
+        for (;;) {
+            if (first == last) return first;
+            if (!goes_left(*first)) break;
+            left.add(*first++);
+        }
+        --last;  // *first goes right: find one on the right to swap it with
+        for (;;) {
+            if (first == last) {
+                right.add(*first);
+                return first;
+            }
+            if (goes_left(*last)) break;
+            right.add(*last--);
+        }
+        std::swap(*first, *last);
+        left.add(*first++);
+        right.add(*last);
+    }
+}
+
+// The cost of splitting a node of area node_area into the two sides given.
+float split_cost(const Box4& left, uint32_t left_count, float right_area, uint32_t right_count,
+                 float node_area) {
+    return kTraversalCost + (left.bounds().surface_area() * leaf_cost(left_count) +
+                             right_area * leaf_cost(right_count)) /
+                                node_area;
+}
+
+// The binned surface area heuristic for a node's primitives: bins their centroids along all three
+// axes in one pass (shared among the idle threads for a large node), then sweeps every axis from
 // both sides for the cheapest split between two bins. `scale` (bins per unit of centroid extent)
-// is returned for the partition that follows; best.axis < 0 when no axis can be split.
-Split cheapest_split(const BuildRef* first, const BuildRef* last, const Bounds3& centroid_box,
-                     const Bounds3& node_box, Vec3& scale) {
+// is returned for the partition that follows; the split's axis is negative when no axis can be
+// split.
+Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
+    const Bounds3 centroid_box = task.extent.centroids.bounds();
+    const Float4 lo = task.extent.centroids.lo;
     bool usable[3];
     for (int axis = 0; axis < 3; ++axis) {
         const float extent = centroid_box.max[axis] - centroid_box.min[axis];
         scale[axis] = kBins / extent;
         usable[axis] = extent > 0.0f && std::isfinite(scale[axis]);  // else below float
     }                                                                // resolution, or NaN
-    std::array<std::array<Bin, kBins>, 3> bins{};
-    for (const BuildRef* r = first; r != last; ++r)
-        for (int axis = 0; axis < 3; ++axis) {
-            Bin& bin = bins[axis][bin_of(r->centroid[axis], centroid_box.min[axis], scale[axis])];
-            bin.box.expand(r->box);
-            ++bin.count;
-        }
+    scale[3] = 0.0f;
+    BuildRef* const first = refs_ + task.begin;
+    BuildRef* const last = refs_ + task.end;
+    const uint32_t count = task.end - task.begin;
+    const float node_area = task.extent.box.bounds().surface_area();
+    Bins bins;
+    int helpers = 0;
+    while (count >= kParallelBinning && helpers < 15 && workers_.claim()) ++helpers;
+    if (helpers == 0) {
+        bins.add(first, last, lo, scale);
+    } else {
+        // The idle threads bin a part each, this one the first; then this one merges.
+        std::vector<Bins> partial(static_cast<size_t>(helpers + 1));
+        parallel_parts(count, helpers + 1, 1, [&](size_t begin, size_t end, int part) {
+            partial[part].add(first + begin, first + end, lo, scale);
+        });
+        for (const Bins& p : partial) bins.add(p);
+        for (int i = 0; i < helpers; ++i) workers_.release();
+    }
+
+    // The sweep visits occupied bins only: most nodes hold a few primitives (the leaves'
+    // parents, and the leaves, which may still be split), and sweeping all 16 bins of each axis
+    // took half the build's time there. A split after an empty bin costs what the split before
+    // it costs, and the first of equal costs is kept, so skipping it changes nothing: the
+    // answer is that of the full sweep, bit for bit.
     Split best;
-    const float node_area = node_box.surface_area();
     for (int axis = 0; axis < 3; ++axis) {
         if (!usable[axis]) continue;
-        // Sweep from the right to get the area and count of every right-hand side.
-        std::array<float, kBins> right_area{};
-        std::array<uint32_t, kBins> right_count{};
+        const uint32_t occupied = bins.occupied[axis];
+        // Sweep from the right to get the area and count of every right-hand side, each stored
+        // at the right side's first occupied bin.
+        std::array<float, kBins> right_area;
+        std::array<uint32_t, kBins> right_count;
         Box4 acc;
         uint32_t acc_count = 0;
-        for (int b = kBins - 1; b > 0; --b) {
-            acc.expand(bins[axis][b].box);
-            acc_count += bins[axis][b].count;
+        for (uint32_t m = occupied; m != 0;) {
+            const int b = 31 - std::countl_zero(m);
+            m &= ~(1u << b);
+            if (m == 0) break;  // the first occupied bin: no split leaves it on the right
+            acc.expand(bins.box[axis][b]);
+            acc_count += bins.count[axis][b];
             right_area[b] = acc.bounds().surface_area();
             right_count[b] = acc_count;
         }
         acc = Box4{};
         acc_count = 0;
-        for (int b = 0; b < kBins - 1; ++b) {
-            acc.expand(bins[axis][b].box);
-            acc_count += bins[axis][b].count;
-            if (acc_count == 0 || right_count[b + 1] == 0) continue;
+        for (uint32_t m = occupied; m != 0;) {
+            const int b = std::countr_zero(m);
+            m &= m - 1;
+            if (m == 0) break;  // the last occupied bin: no split leaves it on the left
+            acc.expand(bins.box[axis][b]);
+            acc_count += bins.count[axis][b];
+            const int next = std::countr_zero(m);  // the right side's first bin
             const float cost =
-                kTraversalCost + (acc.bounds().surface_area() * leaf_cost(acc_count) +
-                                  right_area[b + 1] * leaf_cost(right_count[b + 1])) /
-                                     node_area;
+                split_cost(acc, acc_count, right_area[next], right_count[next], node_area);
             if (cost < best.cost) best = {axis, b, cost};
         }
     }
     return best;
 }
 
-// Builds the binary tree over `refs`, reordering them so that every node's primitives are
-// contiguous; node 0 is the root.
-std::vector<BinaryNode> build_binary_tree(std::vector<BuildRef>& refs) {
-    const uint32_t n = static_cast<uint32_t>(refs.size());
-    std::vector<BinaryNode> binary;
-    binary.reserve(2 * n);
-    binary.push_back({});
-    std::vector<BuildTask> tasks{{0, 0, n, 0}};
+// Builds the subtree of `root` (whose node index is taken), handing the larger child of a node to
+// an idle thread whenever there is one and the child is large enough.
+void BinaryBuilder::subtree(BuildTask root) {
+    uint32_t next = 0, chunk_end = 0;  // this subtree's nodes still free in its chunk
+    std::vector<BuildTask> tasks{root};
     while (!tasks.empty()) {
         const BuildTask task = tasks.back();
         tasks.pop_back();
         const uint32_t count = task.end - task.begin;
-        BuildRef* const first = refs.data() + task.begin;
-        BuildRef* const last = refs.data() + task.end;
+        BuildRef* const first = refs_ + task.begin;
+        BuildRef* const last = refs_ + task.end;
 
-        Box4 node_box4;
-        Bounds3 centroid_box;
-        for (const BuildRef* r = first; r != last; ++r) {
-            node_box4.expand(r->box);
-            centroid_box.expand(r->centroid);
+        BinaryNode& node = nodes_[task.node];
+        const Bounds3 node_box = task.extent.box.bounds();
+        for (int axis = 0; axis < 3; ++axis) {
+            node.lo[axis] = node_box.min[axis];
+            node.hi[axis] = node_box.max[axis];
         }
-        const Bounds3 node_box = node_box4.bounds();
-        BinaryNode& node = binary[task.node];
-        node.box = node_box;
         node.first = task.begin;
         node.count = count;
         if (count == 1) continue;
 
-        Vec3 scale;
-        const Split best = cheapest_split(first, last, centroid_box, node_box, scale);
+        Float4 scale;
+        const Split best = cheapest_split(task, scale);
 
         // Up to kMaxLeafSize primitives make a leaf, tested together, four at once (Scene), for
         // about the cost of one test; unless the heuristic's split costs less still (large
@@ -226,55 +437,85 @@ std::vector<BinaryNode> build_binary_tree(std::vector<BuildRef>& refs) {
             !(sah_split && best.cost < leaf_cost(count)))
             continue;  // leaf
 
-        uint32_t mid;
+        BuildRef* split;
+        Extent left, right;
         if (sah_split) {
             const int axis = best.axis;
-            const float lo = centroid_box.min[axis];
-            BuildRef* split = std::partition(first, last, [&](const BuildRef& r) {
-                return bin_of(r.centroid[axis], lo, scale[axis]) <= best.bin;
-            });
-            mid = static_cast<uint32_t>(split - refs.data());
+            const float lo = task.extent.centroids.lo[axis];
+            split = partition(
+                first, last,
+                [&](const BuildRef& r) {
+                    return bin_of(r.centroid(axis), lo, scale[axis]) <= best.bin;
+                },
+                left, right);
         } else {
             // No usable split (all centroids coincide) or too deep: halve by count.
-            const int axis = centroid_box.longest_axis();
-            mid = task.begin + count / 2;
-            std::nth_element(first, refs.data() + mid, last,
-                             [&](const BuildRef& a, const BuildRef& b) {
-                                 return a.centroid[axis] < b.centroid[axis];
-                             });
+            const int axis = task.extent.centroids.bounds().longest_axis();
+            split = first + count / 2;
+            std::nth_element(first, split, last, [&](const BuildRef& a, const BuildRef& b) {
+                return a.centroid(axis) < b.centroid(axis);
+            });
+            for (const BuildRef* r = first; r != split; ++r) left.add(*r);
+            for (const BuildRef* r = split; r != last; ++r) right.add(*r);
         }
+        const auto mid = static_cast<uint32_t>(split - refs_);
 
-        const uint32_t left = static_cast<uint32_t>(binary.size());
-        binary.push_back({});
-        binary.push_back({});
-        binary[task.node].first = left;  // re-index: push_back may have moved `node`
-        binary[task.node].count = 0;
-        tasks.push_back({left + 1, mid, task.end, task.depth + 1});
-        tasks.push_back({left, task.begin, mid, task.depth + 1});
+        if (next == chunk_end) {
+            next = next_node_.fetch_add(kNodeChunk, std::memory_order_relaxed);
+            chunk_end = next + kNodeChunk;
+        }
+        const uint32_t children = next;
+        next += 2;
+        node.first = children;
+        node.count = 0;
+        BuildTask left_task{children, task.begin, mid, task.depth + 1, left};
+        BuildTask right_task{children + 1, mid, task.end, task.depth + 1, right};
+        // The larger child to another thread, if one is idle; else both here, left first.
+        BuildTask& larger = mid - task.begin >= task.end - mid ? left_task : right_task;
+        bool handed = false;
+        if (larger.end - larger.begin >= kSubtreeTask && workers_.claim()) {
+            if (subtrees_handed_.fetch_add(1) < kMaxSubtrees)
+                handed = workers_.start([this, larger] { subtree(larger); });
+            else
+                workers_.release();
+        }
+        if (!handed || &larger != &right_task) tasks.push_back(right_task);
+        if (!handed || &larger != &left_task) tasks.push_back(left_task);
     }
-    return binary;
 }
 
 }  // namespace
 
-Bvh::Bvh(std::span<const Bounds3> boxes) {
+Bvh::Bvh(std::span<const Bounds3> boxes, int threads) {
     const uint32_t n = static_cast<uint32_t>(boxes.size());
     if (n == 0) return;
     if (boxes.size() > BvhNode::kMaxFirst)
         throw std::length_error("too many primitives for one BVH: " + std::to_string(boxes.size()));
+    threads = build_threads(threads);
     std::vector<BuildRef> refs(n);
-    for (uint32_t i = 0; i < n; ++i) refs[i] = {Box4::of(boxes[i]), boxes[i].centroid(), i};
-    const std::vector<BinaryNode> binary = build_binary_tree(refs);
+    std::vector<Extent> extents(static_cast<size_t>(part_count(n, threads, kMinPart)));
+    parallel_parts(n, threads, kMinPart, [&](size_t begin, size_t end, int part) {
+        for (size_t i = begin; i < end; ++i) {
+            refs[i] = BuildRef::of(boxes[i], static_cast<uint32_t>(i));
+            extents[part].add(refs[i]);
+        }
+    });
+    Extent root;
+    for (const Extent& e : extents) root.add(e);
+    BinaryBuilder builder(refs, threads);
+    const std::unique_ptr<BinaryNode[]> binary = builder.build(root);
 
     // Collapse the binary tree into wide nodes.
-    bounds_ = binary[0].box;
+    bounds_ = binary[0].box();
     std::vector<uint32_t> build_order(n);
-    for (uint32_t i = 0; i < n; ++i) build_order[i] = refs[i].prim;
+    parallel_parts(n, threads, kMinPart, [&](size_t begin, size_t end, int) {
+        for (size_t i = begin; i < end; ++i) build_order[i] = refs[i].prim();
+    });
     refs = {};
     prim_index_.reserve(n + n / 2);
-    Collapse collapse{binary, build_order, nodes_, prim_index_};
+    Collapse collapse{binary.get(), build_order, nodes_, prim_index_};
     // The root is always a wide node, even over a single leaf.
-    nodes_.reserve(binary.size() / 3 + 1);
+    nodes_.reserve(builder.nodes_taken() / 3 + 1);
     if (binary[0].count > 0) {
         nodes_.emplace_back();
         for (int axis = 0; axis < 6; ++axis)

@@ -136,13 +136,17 @@ public:
     static constexpr int kStackSize = (kBvhWidth - 1) * kMaxDepth + 1;
 
     Bvh() = default;
-    // Builds over primitives 0 .. boxes.size()-1 with the given bounding boxes.
-    explicit Bvh(std::span<const Bounds3> boxes);
+    // Builds over primitives 0 .. boxes.size()-1 with the given bounding boxes, on up to
+    // `threads` threads (0: every hardware thread). The tree is the same on any number.
+    explicit Bvh(std::span<const Bounds3> boxes, int threads = 0);
 
     const LargePageVector<BvhNode>& nodes() const { return nodes_; }
     // Position k of the primitive order holds primitive primitive_order()[k] (or kPadding, in
     // the gaps before aligned leaves); the callbacks below receive positions.
     const std::vector<uint32_t>& primitive_order() const { return prim_index_; }
+    // Moves the order out, for a caller that keeps its own copy of it (Scene, in its primitive
+    // references): the BVH then holds only its nodes, and primitive_order() is empty.
+    std::vector<uint32_t> take_primitive_order() { return std::move(prim_index_); }
     Bounds3 bounds() const { return bounds_; }
     size_t memory_bytes() const;
 

@@ -1,10 +1,13 @@
 // Scene construction, ray queries through the BVH, and hit descriptions.
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "accel/parallel.h"
 
 namespace lessons {
 
@@ -86,30 +89,31 @@ Bounds3 Scene::primitive_bounds(PrimRef prim) const {
     return {};
 }
 
-void Scene::commit() {
-    build_bvh();
+void Scene::commit(int threads) {
+    build_bvh(threads);
     collect_area_lights();
-    store_in_bvh_order();
+    store_in_bvh_order(threads);
 }
 
-void Scene::build_bvh() {
+void Scene::build_bvh(int threads) {
     prims_.clear();
     for (uint32_t i = 0; i < spheres_.size(); ++i) prims_.emplace_back(ShapeKind::Sphere, i);
     for (uint32_t i = 0; i < quads_.size(); ++i) prims_.emplace_back(ShapeKind::Quad, i);
     for (uint32_t i = 0; i < triangles_.size(); ++i) prims_.emplace_back(ShapeKind::Triangle, i);
-    std::vector<Bounds3> boxes;
-    boxes.reserve(prims_.size());
-    for (PrimRef p : prims_) {
-        // Rounded outwards by one float step, so a hit computed in higher precision (spheres
-        // are intersected in double) can never lie outside its box.
-        Bounds3 b = primitive_bounds(p);
-        for (int i = 0; i < 3; ++i) {
-            b.min[i] = std::nextafter(b.min[i], -kInfinity);
-            b.max[i] = std::nextafter(b.max[i], kInfinity);
+    std::vector<Bounds3> boxes(prims_.size());
+    parallel_parts(prims_.size(), threads, kMinBuildPart, [&](size_t begin, size_t end, int) {
+        for (size_t k = begin; k < end; ++k) {
+            // Rounded outwards by one float step, so a hit computed in higher precision (spheres
+            // are intersected in double) can never lie outside its box.
+            Bounds3 b = primitive_bounds(prims_[k]);
+            for (int i = 0; i < 3; ++i) {
+                b.min[i] = next_float_down(b.min[i]);
+                b.max[i] = next_float_up(b.max[i]);
+            }
+            boxes[k] = b;
         }
-        boxes.push_back(b);
-    }
-    bvh_ = Bvh(boxes);
+    });
+    bvh_ = Bvh(boxes, threads);
 }
 
 AreaLight Scene::area_light_of(PrimRef p, uint32_t m) const {
@@ -163,38 +167,42 @@ void Scene::collect_area_lights() {
 // triangles' vertices with them, four to a block: a leaf's triangles are then tested four at once
 // from one 144-byte block, instead of following indices to three vertices each
 // (docs/performance.md).
-void Scene::store_in_bvh_order() {
-    std::vector<PrimRef> ordered;
-    ordered.reserve(prims_.size());
-    for (uint32_t p : bvh_.primitive_order())
-        ordered.push_back(p == Bvh::kPadding ? PrimRef() : prims_[p]);  // gaps: never visited
-    prims_ = std::move(ordered);
+void Scene::store_in_bvh_order(int threads) {
+    const std::vector<uint32_t> order = bvh_.take_primitive_order();  // kept in prims_ below
+    std::vector<PrimRef> ordered(order.size());
     triangle_blocks_.clear();
     quad_blocks_.clear();
     const float nan = std::numeric_limits<float>::quiet_NaN();
-    const std::vector<uint32_t>& order = bvh_.primitive_order();
+    const size_t blocks = (order.size() + 3) / 4;
     if (!quads_.empty()) {
         QuadBlock unused;
         for (int axis = 0; axis < 3; ++axis)
             unused.corner[axis] = unused.normal[axis] = unused.dual_u[axis] = unused.dual_v[axis] =
                 Float4{} + nan;
-        quad_blocks_.assign((prims_.size() + 3) / 4, unused);
-        for (size_t k = 0; k < prims_.size(); ++k)
-            if (order[k] != Bvh::kPadding && prims_[k].kind() == ShapeKind::Quad)
-                quad_blocks_[k / 4].set(static_cast<int>(k % 4), quads_[prims_[k].index()]);
+        quad_blocks_.assign(blocks, unused);
     }
     if (!triangles_.empty()) {
         TriangleBlock unused;
         for (auto& vertex : unused.p)
             for (Float4& axis : vertex) axis = Float4{} + nan;
-        triangle_blocks_.assign((prims_.size() + 3) / 4, unused);
-        for (size_t k = 0; k < prims_.size(); ++k) {
-            if (order[k] == Bvh::kPadding || prims_[k].kind() != ShapeKind::Triangle) continue;
-            const Triangle& t = triangles_[prims_[k].index()];
-            triangle_blocks_[k / 4].set(static_cast<int>(k % 4), positions_[t.v[0]],
-                                        positions_[t.v[1]], positions_[t.v[2]]);
-        }
+        triangle_blocks_.assign(blocks, unused);
     }
+    // Block by block, so that no two threads write one block.
+    parallel_parts(blocks, threads, kMinBuildPart / 4, [&](size_t begin, size_t end, int) {
+        for (size_t k = 4 * begin; k < std::min(4 * end, order.size()); ++k) {
+            if (order[k] == Bvh::kPadding) continue;  // gaps: never visited
+            const PrimRef p = ordered[k] = prims_[order[k]];
+            const int lane = static_cast<int>(k % 4);
+            if (p.kind() == ShapeKind::Quad) {
+                quad_blocks_[k / 4].set(lane, quads_[p.index()]);
+            } else if (p.kind() == ShapeKind::Triangle) {
+                const Triangle& t = triangles_[p.index()];
+                triangle_blocks_[k / 4].set(lane, positions_[t.v[0]], positions_[t.v[1]],
+                                            positions_[t.v[2]]);
+            }
+        }
+    });
+    prims_ = std::move(ordered);
 }
 
 [[gnu::always_inline]] inline bool Scene::intersect_primitive(uint32_t k, const Ray& ray,

@@ -36,10 +36,11 @@ struct PrimRef {
 };
 
 // One triangle of a mesh: three indices into the scene's vertex arrays.
+// 16 bytes: the flag shares the material's word (a scene cannot hold 2^31 materials).
 struct Triangle {
     uint32_t v[3];
-    uint32_t material;
-    bool smooth;  // interpolate the vertex normals for shading
+    uint32_t material : 31;
+    uint32_t smooth : 1;  // interpolate the vertex normals for shading
 };
 
 struct Hit {
@@ -127,7 +128,8 @@ public:
     // lights were collected from it (--albedo changes only reflectances).
     void replace_material(uint32_t i, const Material& m);
     // Builds the BVH and the list of area lights. Call once, after adding every shape.
-    void commit();
+    // threads: how many may build the BVH (0: every hardware thread); the result is the same.
+    void commit(int threads = 0);
 
     // ---- queries ----
     std::optional<Hit> intersect(const Ray& ray) const;
@@ -152,6 +154,10 @@ public:
     const std::vector<Vec2>& uvs() const { return uvs_; }          // empty, or one per position
     const Bvh& bvh() const { return bvh_; }
     size_t primitive_count() const { return spheres_.size() + quads_.size() + triangles_.size(); }
+    // The primitive at position k of the BVH's order (bvh.h), or a sphere 0 in the gaps before
+    // aligned leaves, which no query visits. Positions run from 0 to primitive_slots() - 1.
+    PrimRef primitive_at(size_t k) const { return prims_[k]; }
+    size_t primitive_slots() const { return prims_.size(); }
     uint32_t material_of(PrimRef prim) const;
     Bounds3 primitive_bounds(PrimRef prim) const;
     Bounds3 bounds() const { return bvh_.bounds(); }
@@ -180,9 +186,11 @@ public:
 private:
     // The three steps of commit(): the BVH over every primitive's box; the area lights (one per
     // emissive primitive of nonzero area); the primitives and their SIMD blocks in BVH order.
-    void build_bvh();
+    void build_bvh(int threads);
     void collect_area_lights();
-    void store_in_bvh_order();
+    void store_in_bvh_order(int threads);
+    // Build steps give each thread at least this many primitives (accel/parallel.h).
+    static constexpr size_t kMinBuildPart = 16384;
     AreaLight area_light_of(PrimRef p, uint32_t material) const;
 
     // Tests the primitive at position k of the BVH's order.
