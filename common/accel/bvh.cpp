@@ -199,13 +199,98 @@ private:
     std::vector<std::thread> started_;
 };
 
-// Collapses binary node b into a wide node (or, for a leaf, a leaf slot); returns the slot's
-// code for the parent. Each node adopts the two children of its largest interior child until it
-// has eight: large boxes are the ones rays enter most often (the SAH's reasoning).
-// Leaves are laid out in the final primitive order as they are reached (depth first), each
-// starting at a multiple of kLeafAlignment: order[] is filled here from the build's order.
+// Where the binary tree is cut into wide nodes: the cut with the least total surface area of
+// wide nodes, which the SAH takes as the expected number of wide nodes a ray visits (a wide
+// node's eight boxes cost one test; the leaves are the binary tree's whatever the cut). By
+// dynamic programming, as in the optimal collapse of Ylitie, Karras and Laine ("Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017), here over interior
+// nodes only: cost(v, k) is the least cost of v's subtree when it may fill up to k slots of its
+// parent, either as one slot (a leaf, or a wide node of its own: its area plus the cheapest way
+// for its two children to fill its 8 slots) or opened, its children's subtrees sharing the k
+// slots. Opening a node into its parent saves its area, so nodes come out full where they can:
+// the greedy collapse before (each node adopting the children of its widest child until it had
+// eight) left half the wide nodes of a mesh with two children (docs/performance.md).
+class WideCut {
+public:
+    WideCut(const BinaryNode* binary, uint32_t node_count)
+        : binary_(binary), cost_(node_count), left_slots_(node_count) {
+        // Children before parents: the interior nodes in reverse depth-first order.
+        std::vector<uint32_t> order, todo{0};
+        while (!todo.empty()) {
+            const uint32_t v = todo.back();
+            todo.pop_back();
+            if (binary_[v].count > 0) continue;
+            order.push_back(v);
+            todo.push_back(binary_[v].first);
+            todo.push_back(binary_[v].first + 1);
+        }
+        for (auto v = order.rbegin(); v != order.rend(); ++v) solve(*v);
+    }
+
+    // The slots of interior node v as a wide node, in order: binary nodes, each a leaf or the
+    // root of a wide node.
+    int slots(uint32_t v, uint32_t out[kBvhWidth]) const {
+        int used = 0;
+        const uint32_t left = binary_[v].first;
+        const int k = left_slots_[v][kBvhWidth - 1];
+        frontier(left, k, out, used);
+        frontier(left + 1, kBvhWidth - k, out, used);
+        return used;
+    }
+
+private:
+    float cost(uint32_t v, int k) const { return binary_[v].count > 0 ? 0.0f : cost_[v][k - 1]; }
+
+    void solve(uint32_t v) {
+        const uint32_t left = binary_[v].first, right = left + 1;
+        float open[kBvhWidth + 1];
+        uint8_t split[kBvhWidth + 1];
+        for (int k = 2; k <= kBvhWidth; ++k) {
+            open[k] = kInfinity;
+            split[k] = 1;
+            for (int j = 1; j < k; ++j) {
+                const float c = cost(left, j) + cost(right, k - j);
+                if (c < open[k]) {
+                    open[k] = c;
+                    split[k] = static_cast<uint8_t>(j);
+                }
+            }
+        }
+        const float as_node = binary_[v].box().surface_area() + open[kBvhWidth];
+        cost_[v][0] = as_node;
+        left_slots_[v][0] = 0;  // one slot: v itself
+        for (int k = 2; k <= kBvhWidth; ++k) {
+            const bool opened = open[k] <= as_node;  // on a tie, one node fewer
+            cost_[v][k - 1] = opened ? open[k] : as_node;
+            left_slots_[v][k - 1] = opened ? split[k] : 0;
+        }
+        // With 8 slots, v is always opened (as_node adds v's area to open[8]), so
+        // left_slots_[v][7] says how a wide node v shares its slots: slots() reads it.
+    }
+
+    // Appends the slots that v's subtree fills when it may fill k.
+    void frontier(uint32_t v, int k, uint32_t out[kBvhWidth], int& used) const {
+        const int j = binary_[v].count > 0 ? 0 : left_slots_[v][k - 1];
+        if (j == 0) {
+            out[used++] = v;
+            return;
+        }
+        frontier(binary_[v].first, j, out, used);
+        frontier(binary_[v].first + 1, k - j, out, used);
+    }
+
+    const BinaryNode* binary_;
+    std::vector<std::array<float, kBvhWidth>> cost_;
+    std::vector<std::array<uint8_t, kBvhWidth>> left_slots_;
+};
+
+// Collapses binary node b into a wide node (or, for a leaf, a leaf slot) along the cut; returns
+// the slot's code for the parent. Leaves are laid out in the final primitive order as they are
+// reached (depth first), each starting at a multiple of kLeafAlignment: order[] is filled here
+// from the build's order.
 struct Collapse {
     const BinaryNode* binary;
+    const WideCut& cut;
     const std::vector<uint32_t>& build_order;
     LargePageVector<BvhNode>& nodes;
     std::vector<uint32_t>& order;
@@ -221,29 +306,14 @@ struct Collapse {
 
 uint32_t Collapse::operator()(uint32_t b) {
     if (binary[b].count > 0) return leaf(binary[b].first, binary[b].count);
-    uint32_t slots[kBvhWidth] = {binary[b].first, binary[b].first + 1};
-    int used = 2;
-    while (used < kBvhWidth) {
-        int widest = -1;
-        float widest_area = -1.0f;
-        for (int i = 0; i < used; ++i) {
-            const BinaryNode& c = binary[slots[i]];
-            if (c.count == 0 && c.box().surface_area() > widest_area) {
-                widest = i;
-                widest_area = c.box().surface_area();
-            }
-        }
-        if (widest < 0) break;  // every slot is a leaf
-        const uint32_t left = binary[slots[widest]].first;
-        slots[widest] = left;
-        slots[used++] = left + 1;
-    }
+    uint32_t slots[kBvhWidth];
+    const int used = cut.slots(b, slots);
     const auto index = static_cast<uint32_t>(nodes.size());
     nodes.emplace_back();
     for (int axis = 0; axis < 6; ++axis)
         nodes[index].bounds[axis] = BoxLanes{} + (axis % 2 == 0 ? kInfinity : -kInfinity);
     for (int i = 0; i < used; ++i) {
-        const Bounds3& box = binary[slots[i]].box();
+        const Bounds3 box = binary[slots[i]].box();
         const uint32_t child = (*this)(slots[i]);  // may move nodes
         BvhNode& node = nodes[index];
         for (int axis = 0; axis < 3; ++axis) {
@@ -513,7 +583,8 @@ Bvh::Bvh(std::span<const Bounds3> boxes, int threads) {
     });
     refs = {};
     prim_index_.reserve(n + n / 2);
-    Collapse collapse{binary.get(), build_order, nodes_, prim_index_};
+    const WideCut cut(binary.get(), builder.nodes_taken());
+    Collapse collapse{binary.get(), cut, build_order, nodes_, prim_index_};
     // The root is always a wide node, even over a single leaf.
     nodes_.reserve(builder.nodes_taken() / 3 + 1);
     if (binary[0].count > 0) {
