@@ -60,25 +60,28 @@ struct Box4 {
 
 // A primitive as the build sorts it: a copy of its box, 32 bytes, with the primitive's index in
 // the minimum's fourth lane (as bits: below 2^28, so a small positive float, never NaN), so that
-// every pass over a node's primitives reads memory in order, with no index to follow.
+// every pass over a node's primitives reads memory in order, with no index to follow. A plain
+// pair of vectors, so that the array of them is not written before the threads fill it.
 struct BuildRef {
-    Box4 box;
+    Float4 lo, hi;
     static BuildRef of(const Bounds3& b, uint32_t prim) {
-        BuildRef r{Box4::of(b)};
-        r.box.lo[3] = std::bit_cast<float>(prim);
+        const Box4 box = Box4::of(b);
+        BuildRef r{box.lo, box.hi};
+        r.lo[3] = std::bit_cast<float>(prim);
         return r;
     }
-    uint32_t prim() const { return std::bit_cast<uint32_t>(box.lo[3]); }
+    Box4 box() const { return {lo, hi}; }
+    uint32_t prim() const { return std::bit_cast<uint32_t>(lo[3]); }
     // Bounds3::centroid's arithmetic, in all lanes at once.
-    Float4 centroid() const { return 0.5f * (box.lo + box.hi); }
-    float centroid(int axis) const { return 0.5f * (box.lo[axis] + box.hi[axis]); }
+    Float4 centroid() const { return 0.5f * (lo + hi); }
+    float centroid(int axis) const { return 0.5f * (lo[axis] + hi[axis]); }
 };
 
 // The boxes of a set of primitives and of their centroids: what a node needs to bin them.
 struct Extent {
     Box4 box, centroids;
     void add(const BuildRef& r) {
-        box.expand(r.box);
+        box.expand(r.box());
         centroids.expand(r.centroid());
     }
     void add(const Extent& e) {
@@ -135,7 +138,7 @@ struct Bins {
         for (const BuildRef* r = first; r != last; ++r)
             for (int axis = 0; axis < 3; ++axis) {
                 const int b = bin_of(r->centroid(axis), lo[axis], scale[axis]);
-                box[axis][b].expand(r->box);
+                box[axis][b].expand(r->box());
                 ++count[axis][b];
                 occupied[axis] |= 1u << b;
             }
@@ -213,7 +216,9 @@ private:
 class WideCut {
 public:
     WideCut(const BinaryNode* binary, uint32_t node_count)
-        : binary_(binary), cost_(node_count), left_slots_(node_count) {
+        : binary_(binary),
+          cost_(new std::array<float, kBvhWidth>[node_count]),  // written before read
+          left_slots_(new std::array<uint8_t, kBvhWidth>[node_count]) {
         // Children before parents: the interior nodes in reverse depth-first order.
         std::vector<uint32_t> order, todo{0};
         while (!todo.empty()) {
@@ -280,8 +285,8 @@ private:
     }
 
     const BinaryNode* binary_;
-    std::vector<std::array<float, kBvhWidth>> cost_;
-    std::vector<std::array<uint8_t, kBvhWidth>> left_slots_;
+    std::unique_ptr<std::array<float, kBvhWidth>[]> cost_;
+    std::unique_ptr<std::array<uint8_t, kBvhWidth>[]> left_slots_;
 };
 
 // Collapses binary node b into a wide node (or, for a leaf, a leaf slot) along the cut; returns
@@ -334,9 +339,9 @@ uint32_t Collapse::operator()(uint32_t b) {
 // from node 0 (Collapse, depth first) is the same bits on any number of threads.
 class BinaryBuilder {
 public:
-    BinaryBuilder(std::vector<BuildRef>& refs, int threads)
-        : refs_(refs.data()), count_(static_cast<uint32_t>(refs.size())),
-          nodes_(new BinaryNode[2 * refs.size() + size_t{kNodeChunk} * (kMaxSubtrees + 1)]),
+    BinaryBuilder(BuildRef* refs, uint32_t count, int threads)
+        : refs_(refs), count_(count),
+          nodes_(new BinaryNode[2 * size_t{count} + size_t{kNodeChunk} * (kMaxSubtrees + 1)]),
           workers_(threads) {}
 
     // Every node of the tree, at most 2 n - 1; node 0 is the root.
@@ -562,7 +567,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes, int threads) {
     if (boxes.size() > BvhNode::kMaxFirst)
         throw std::length_error("too many primitives for one BVH: " + std::to_string(boxes.size()));
     threads = build_threads(threads);
-    std::vector<BuildRef> refs(n);
+    std::unique_ptr<BuildRef[]> refs(new BuildRef[n]);  // not initialised: filled below
     std::vector<Extent> extents(static_cast<size_t>(part_count(n, threads, kMinPart)));
     parallel_parts(n, threads, kMinPart, [&](size_t begin, size_t end, int part) {
         for (size_t i = begin; i < end; ++i) {
@@ -572,7 +577,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes, int threads) {
     });
     Extent root;
     for (const Extent& e : extents) root.add(e);
-    BinaryBuilder builder(refs, threads);
+    BinaryBuilder builder(refs.get(), n, threads);
     const std::unique_ptr<BinaryNode[]> binary = builder.build(root);
 
     // Collapse the binary tree into wide nodes.
@@ -581,7 +586,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes, int threads) {
     parallel_parts(n, threads, kMinPart, [&](size_t begin, size_t end, int) {
         for (size_t i = begin; i < end; ++i) build_order[i] = refs[i].prim();
     });
-    refs = {};
+    refs.reset();
     prim_index_.reserve(n + n / 2);
     const WideCut cut(binary.get(), builder.nodes_taken());
     Collapse collapse{binary.get(), cut, build_order, nodes_, prim_index_};

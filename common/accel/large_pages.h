@@ -15,6 +15,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #if defined(__linux__)
@@ -41,6 +43,17 @@ public:
         if (bytes >= kLargePageBytes) return static_cast<T*>(map_large(bytes));
 #endif
         return static_cast<T*>(::operator new(bytes, std::align_val_t(kAlignment)));
+    }
+    // An element made without a value is default-initialised: for the plain arrays here (nodes,
+    // blocks) that leaves it unwritten, instead of zeroed as std::vector would, since the build
+    // fills them, on several threads, and zeroing first would write every page once more, on one.
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
     }
     void deallocate(T* p, size_t n) noexcept {
 #if defined(__linux__)

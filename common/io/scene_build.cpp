@@ -340,7 +340,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
             glm::length(d.camera_position - s.center) < s.radius)
             std::cerr << "warning: " << s.where.file << ":" << s.where.line << ": " << s.where.field
                       << ": the camera is inside this sphere; the image shows its inside\n";
-    scene.commit();
+    scene.commit(options.threads);
     return scene;
 }
 

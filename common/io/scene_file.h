@@ -99,9 +99,11 @@ SceneDescription parse_scene_string(const std::string& toml_text, const std::str
 std::vector<std::string> scene_input_files(const SceneDescription& scene);
 
 struct BuildOptions {
-    BuildOptions(int w = 0, int h = 0, InputLimits l = {}) : width(w), height(h), limits(l) {}
+    BuildOptions(int w = 0, int h = 0, InputLimits l = {}, int t = 0)
+        : width(w), height(h), limits(l), threads(t) {}
     int width = 0, height = 0;  // override the file's image size when > 0
     InputLimits limits;         // the largest scene and mesh files read
+    int threads = 0;            // that build the BVH (0: every hardware thread; the same tree)
 };
 
 // Stage 2. Throws InputError. Warnings (e.g. skipped degenerate triangles) go to stderr.

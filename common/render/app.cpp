@@ -45,7 +45,7 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
         ->check(CLI::Range(1, kMaxImageSide));
     app.add_option("--height", o.height, "Image height in pixels, overriding the scene")
         ->check(CLI::Range(1, kMaxImageSide));
-    app.add_option("--threads", o.threads, "Worker threads (0: one per core)")
+    app.add_option("--threads", o.threads, "Worker threads, for the BVH's build and the render (0: one per core)")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
     app.add_option("--seed", o.seed, "Seed of the random numbers (same seed: same image)")
@@ -521,7 +521,7 @@ std::string image_options(const CLI::App& app) {
 }
 
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
-    in.scene = load_scene(o.scene, {o.width, o.height, o.limits});
+    in.scene = load_scene(o.scene, {o.width, o.height, o.limits, o.threads});
     check_memory(in.scene.width, in.scene.height);
     apply_naive_methods(o.naive, in.scene.naive);
     apply_albedo(o.albedo, in.scene);

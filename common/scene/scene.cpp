@@ -170,25 +170,26 @@ void Scene::collect_area_lights() {
 void Scene::store_in_bvh_order(int threads) {
     const std::vector<uint32_t> order = bvh_.take_primitive_order();  // kept in prims_ below
     std::vector<PrimRef> ordered(order.size());
-    triangle_blocks_.clear();
-    quad_blocks_.clear();
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const size_t blocks = (order.size() + 3) / 4;
-    if (!quads_.empty()) {
-        QuadBlock unused;
-        for (int axis = 0; axis < 3; ++axis)
-            unused.corner[axis] = unused.normal[axis] = unused.dual_u[axis] = unused.dual_v[axis] =
-                Float4{} + nan;
-        quad_blocks_.assign(blocks, unused);
-    }
-    if (!triangles_.empty()) {
-        TriangleBlock unused;
-        for (auto& vertex : unused.p)
-            for (Float4& axis : vertex) axis = Float4{} + nan;
-        triangle_blocks_.assign(blocks, unused);
-    }
+    QuadBlock unused_quads;
+    for (int axis = 0; axis < 3; ++axis)
+        unused_quads.corner[axis] = unused_quads.normal[axis] = unused_quads.dual_u[axis] =
+            unused_quads.dual_v[axis] = Float4{} + nan;
+    TriangleBlock unused_triangles;
+    for (auto& vertex : unused_triangles.p)
+        for (Float4& axis : vertex) axis = Float4{} + nan;
+    // Sized but not written (large_pages.h): the threads below write every block.
+    quad_blocks_.clear();
+    quad_blocks_.resize(quads_.empty() ? 0 : blocks);
+    triangle_blocks_.clear();
+    triangle_blocks_.resize(triangles_.empty() ? 0 : blocks);
     // Block by block, so that no two threads write one block.
     parallel_parts(blocks, threads, kMinBuildPart / 4, [&](size_t begin, size_t end, int) {
+        for (size_t b = begin; b < end; ++b) {
+            if (!quads_.empty()) quad_blocks_[b] = unused_quads;
+            if (!triangles_.empty()) triangle_blocks_[b] = unused_triangles;
+        }
         for (size_t k = 4 * begin; k < std::min(4 * end, order.size()); ++k) {
             if (order[k] == Bvh::kPadding) continue;  // gaps: never visited
             const PrimRef p = ordered[k] = prims_[order[k]];
