@@ -11,8 +11,8 @@
 # error. The converged renders come from scripts/cycles_compare.sh (cached in DIR).
 # Writes DIR/time_to_error.csv (target_spp,run,renderer,seconds,wall_seconds,spp,rmse) and
 # prints medians and ranges.
-# Usage: scripts/cycles_time_to_error.sh [--dir DIR] [--lesson 4|5] [--runs N]
-#                                        [--fraction F] SCENE [SPP ...]
+# Usage: scripts/cycles_time_to_error.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5]
+#                                        [--runs N] [--fraction F] SCENE [SPP ...]
 #   e.g. scripts/cycles_time_to_error.sh --lesson 4 scenes/cornell_box_rtiow.toml 64 256
 #   Defaults: 3 runs, fraction 0.5, SPP 64. Environment: REF_SPP (default 1024), BLENDER,
 #   LESSONS_BIN, as for scripts/cycles_compare.sh.
@@ -22,14 +22,16 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BLENDER="${BLENDER:-blender}"
 BIN="${LESSONS_BIN:-$ROOT/build/bin}"
 REF_SPP="${REF_SPP:-1024}"
-DIR="" LESSON="" RUNS=3 FRACTION=0.5 SCENE=""
+WIDTH="" HEIGHT="" DIR="" LESSON="" RUNS=3 FRACTION=0.5 SCENE=""
 SPP_LIST=()
 usage() {
-    echo "usage: scripts/cycles_time_to_error.sh [--dir DIR] [--lesson 4|5] [--runs N] [--fraction F] SCENE [SPP ...]" >&2
+    echo "usage: scripts/cycles_time_to_error.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5] [--runs N] [--fraction F] SCENE [SPP ...]" >&2
     exit 2
 }
 while [ $# -gt 0 ]; do
     case "$1" in
+        --width) [ $# -ge 2 ] || usage; WIDTH="$2"; shift 2 ;;
+        --height) [ $# -ge 2 ] || usage; HEIGHT="$2"; shift 2 ;;
         --dir) [ $# -ge 2 ] || usage; DIR="$2"; shift 2 ;;
         --lesson) [ $# -ge 2 ] || usage; LESSON="$2"; shift 2 ;;
         --runs) [ $# -ge 2 ] || usage; RUNS="$2"; shift 2 ;;
@@ -51,7 +53,8 @@ DIR="${DIR:-$ROOT/out/cycles/$NAME}"
 
 # The converged renders (and, cached, the lesson chosen for the scene).
 REF_SPP="$REF_SPP" BLENDER="$BLENDER" LESSONS_BIN="$BIN" "$ROOT/scripts/cycles_compare.sh" \
-    ${LESSON:+--lesson "$LESSON"} --dir "$DIR" "$SCENE" "${SPP_LIST[0]}" > "$DIR.compare.log" 2>&1 ||
+    ${LESSON:+--lesson "$LESSON"} ${WIDTH:+--width "$WIDTH"} ${HEIGHT:+--height "$HEIGHT"} \
+    --dir "$DIR" "$SCENE" "${SPP_LIST[0]}" > "$DIR.compare.log" 2>&1 ||
     { echo "error: scripts/cycles_compare.sh failed; see $DIR.compare.log" >&2; exit 1; }
 LESSON="$(sed -n 's/.*, lesson \([45]\),.*/\1/p' "$DIR/stamp")"
 case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05_bidirectional" ;;

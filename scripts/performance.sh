@@ -4,7 +4,9 @@
 #      render throughput on 1 and 2 threads (out/perf/bench.csv);
 #   2. the whole renderer against Blender's Cycles on scenes/cornell_box_rtiow.toml: RMSE against
 #      time, each renderer against a converged reference of its own, rendered as two independent
-#      halves whose own noise is estimated and subtracted (tools/compare --second-half).
+#      halves whose own noise is estimated and subtracted (tools/compare --second-half);
+#   3. time to Cycles' error (scripts/cycles_time_to_error.sh): lesson 4 on that box, lesson 5 on
+#      scenes/cornell_spheres.toml (glass), each given a fraction of Cycles' time, in turns.
 # Installs libembree-dev and blender (Debian's) first when missing; both are optional for the
 # suite itself. References are cached in out/perf/ and out/cycles/ (delete them to redo them).
 # Usage: scripts/performance.sh [--quick | --bench | --renders | --scaling]
@@ -102,3 +104,13 @@ for spp in $SPP_LIST; do
 done
 echo "== RMSE against time (each renderer against its own reference): $CSV"
 column -s, -t "$CSV"
+
+# ---- time to Cycles' error: the lesson given a fraction of each Cycles run's time, in turns ----
+# Lesson 4 with half of Cycles' time at its 64- and 256-spp errors on the same box; lesson 5 with
+# a quarter of it at its 256-spp error on the box with a glass sphere lit by the small lamp, whose
+# caustic Cycles' paths find only by hitting the lamp (256 x 256, so that both references fit).
+REF_SPP="$REF_SPP" LESSONS_BIN="$BIN" scripts/cycles_time_to_error.sh --lesson 4 --dir "$CYCLES" \
+    "$SCENE" 64 256
+REF_SPP="$REF_SPP" LESSONS_BIN="$BIN" scripts/cycles_time_to_error.sh --lesson 5 --fraction 0.25 \
+    --width 256 --height 256 --dir "${LESSONS_OUT:-$ROOT/out}/cycles/cornell_spheres_256" \
+    scenes/cornell_spheres.toml 256
