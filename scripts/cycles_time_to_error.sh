@@ -52,10 +52,11 @@ NAME="$(basename "$SCENE")"; NAME="${NAME%.*}"
 DIR="${DIR:-$ROOT/out/cycles/$NAME}"
 
 # The converged renders (and, cached, the lesson chosen for the scene).
+mkdir -p "$DIR"
 REF_SPP="$REF_SPP" BLENDER="$BLENDER" LESSONS_BIN="$BIN" "$ROOT/scripts/cycles_compare.sh" \
     ${LESSON:+--lesson "$LESSON"} ${WIDTH:+--width "$WIDTH"} ${HEIGHT:+--height "$HEIGHT"} \
-    --dir "$DIR" "$SCENE" "${SPP_LIST[0]}" > "$DIR.compare.log" 2>&1 ||
-    { echo "error: scripts/cycles_compare.sh failed; see $DIR.compare.log" >&2; exit 1; }
+    --dir "$DIR" "$SCENE" "${SPP_LIST[0]}" > "$DIR/compare.log" 2>&1 ||
+    { echo "error: scripts/cycles_compare.sh failed; see $DIR/compare.log" >&2; exit 1; }
 LESSON="$(sed -n 's/.*, lesson \([45]\),.*/\1/p' "$DIR/stamp")"
 case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05_bidirectional" ;;
     *) echo "error: no lesson in $DIR/stamp" >&2; exit 1 ;; esac
@@ -80,6 +81,7 @@ for target in "${SPP_LIST[@]}"; do
             "${SIZE_ARGS[@]}" > "$file.log" 2>&1 || { echo "error: Blender failed; see $file.log" >&2; exit 1; }
         wall="$(awk -v a="$start" -v b="$(now)" 'BEGIN{printf "%.3f", b - a}')"
         seconds="$(sed -n 's/^cycles_seconds: //p' "$file.log")"
+        [ -n "$seconds" ] && [ -f "$file.exr" ] || { echo "error: no image or time from Blender; see $file.log" >&2; exit 1; }
         rmse="$("$BIN/compare" "$file.exr" "${CYCLES_REF[@]}" | field /dev/stdin rmse_corrected)"
         echo "$target,$run,cycles,$seconds,$wall,$target,$rmse" >> "$CSV"
         budget="$(awk -v s="$seconds" -v f="$FRACTION" 'BEGIN{printf "%.3f", s * f}')"

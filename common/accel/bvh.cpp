@@ -6,6 +6,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <list>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -23,8 +24,8 @@ constexpr int kBins = 16;
 constexpr float kTraversalCost = 1.0f;  // relative to one primitive intersection
 constexpr int kMedianSplitDepth = 64;   // deeper than this, split at the median (see kStackSize)
 // A subtree of at least this many primitives may be built by another thread, and a node of at
-// least kParallelBinning primitives is binned by every idle thread at once. Below, a thread's
-// start costs more than it saves.
+// least kParallelBinning primitives is binned by every idle thread at once (up to 16). Below, a
+// thread's start costs more than it saves.
 constexpr uint32_t kSubtreeTask = 4096;
 constexpr uint32_t kParallelBinning = 1u << 16;
 // A thread takes nodes from the shared array kNodeChunk at a time, so that two threads never
@@ -72,8 +73,14 @@ struct BuildRef {
     }
     Box4 box() const { return {lo, hi}; }
     uint32_t prim() const { return std::bit_cast<uint32_t>(lo[3]); }
-    // Bounds3::centroid's arithmetic, in all lanes at once.
-    Float4 centroid() const { return 0.5f * (lo + hi); }
+    // Bounds3::centroid's arithmetic, in all lanes at once; the index's lane is taken as 0
+    // (as a float it is a denormal for indices below 2^23, and arithmetic on denormals can take
+    // the processor a hundred times longer).
+    Float4 centroid() const {
+        Float4 low = lo;
+        low[3] = 0.0f;
+        return 0.5f * (low + hi);
+    }
     float centroid(int axis) const { return 0.5f * (lo[axis] + hi[axis]); }
 };
 
@@ -166,18 +173,30 @@ public:
     }
     void release() { idle_.fetch_add(1); }
     // Runs work() on a new thread (claimed before), which becomes idle again when it returns.
-    // Returns false, with the claim released, if the system refuses a thread: the caller then
-    // does the work itself.
+    // Returns false, with the claim released, if the system refuses a thread (or memory for
+    // it): the caller then does the work itself. Threads that have finished are joined here, so
+    // that their stacks go back as the build goes on.
     template <class Work>
     bool start(Work work) {
         std::lock_guard<std::mutex> lock(mutex_);
+        for (auto t = started_.begin(); t != started_.end();) {
+            if (t->done->load()) {
+                t->thread.join();
+                t = started_.erase(t);
+            } else {
+                ++t;
+            }
+        }
         try {
-            started_.emplace_back([this, work] {
-                work();
-                release();
-            });
+            auto done = std::make_shared<std::atomic<bool>>(false);
+            started_.push_back({std::thread([this, work, done] {
+                                    work();
+                                    release();
+                                    done->store(true);
+                                }),
+                                done});
             return true;
-        } catch (const std::system_error&) {
+        } catch (const std::exception&) {  // std::system_error, std::bad_alloc
             release();
             return false;
         }
@@ -189,7 +208,7 @@ public:
             {
                 std::lock_guard<std::mutex> lock(mutex_);
                 if (started_.empty()) return;
-                t = std::move(started_.back());
+                t = std::move(started_.back().thread);
                 started_.pop_back();
             }
             t.join();
@@ -197,9 +216,13 @@ public:
     }
 
 private:
+    struct Started {
+        std::thread thread;
+        std::shared_ptr<std::atomic<bool>> done;
+    };
     std::atomic<int> idle_;
     std::mutex mutex_;
-    std::vector<std::thread> started_;
+    std::list<Started> started_;
 };
 
 // Where the binary tree is cut into wide nodes: the cut with the least total surface area of
@@ -265,12 +288,13 @@ private:
         cost_[v][0] = as_node;
         left_slots_[v][0] = 0;  // one slot: v itself
         for (int k = 2; k <= kBvhWidth; ++k) {
-            const bool opened = open[k] <= as_node;  // on a tie, one node fewer
+            // On a tie, one node fewer. With 8 slots, v is opened whatever the costs (as_node
+            // adds v's area to open[8]; a NaN area must not say otherwise), so that
+            // left_slots_[v][7] says how a wide node v shares its slots: slots() reads it.
+            const bool opened = k == kBvhWidth || !(open[k] > as_node);
             cost_[v][k - 1] = opened ? open[k] : as_node;
             left_slots_[v][k - 1] = opened ? split[k] : 0;
         }
-        // With 8 slots, v is always opened (as_node adds v's area to open[8]), so
-        // left_slots_[v][7] says how a wide node v shares its slots: slots() reads it.
     }
 
     // Appends the slots that v's subtree fills when it may fill k.
@@ -346,7 +370,12 @@ public:
 
     // Every node of the tree, at most 2 n - 1; node 0 is the root.
     std::unique_ptr<BinaryNode[]> build(const Extent& root) {
-        subtree({0, 0, count_, 0, root});
+        try {
+            subtree({0, 0, count_, 0, root});
+        } catch (...) {  // out of memory: let the other threads finish before unwinding
+            workers_.join_all();
+            throw;
+        }
         workers_.release();  // this thread is idle now: another may start
         workers_.join_all();
         return std::move(nodes_);

@@ -33,15 +33,24 @@ void parallel_parts(size_t n, int threads, size_t min_part, Fn&& fn) {
     const int parts = part_count(n, threads, min_part);
     auto range = [&](int i) { return n * static_cast<size_t>(i) / static_cast<size_t>(parts); };
     std::vector<std::thread> started;
-    for (int i = 1; i < parts; ++i) {
-        try {
-            started.emplace_back([&fn, &range, i] { fn(range(i), range(i + 1), i); });
-        } catch (const std::system_error&) {
-            fn(range(i), range(i + 1), i);
+    started.reserve(static_cast<size_t>(parts - 1));
+    auto join = [&] {
+        for (std::thread& t : started) t.join();
+    };
+    try {
+        for (int i = 1; i < parts; ++i) {
+            try {
+                started.emplace_back([&fn, &range, i] { fn(range(i), range(i + 1), i); });
+            } catch (const std::system_error&) {
+                fn(range(i), range(i + 1), i);
+            }
         }
+        fn(range(0), range(1), 0);
+    } catch (...) {  // from fn on this thread: the others finish before the stack unwinds
+        join();
+        throw;
     }
-    fn(range(0), range(1), 0);
-    for (std::thread& t : started) t.join();
+    join();
 }
 
 }  // namespace lessons

@@ -42,6 +42,7 @@ struct Triangle {
     uint32_t material : 31;
     uint32_t smooth : 1;  // interpolate the vertex normals for shading
 };
+static_assert(sizeof(Triangle) == 16);
 
 struct Hit {
     ShapeHit shape;  // t and surface parameters
