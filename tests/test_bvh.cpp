@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 #include "accel/bvh.h"
+#include "accel/parallel.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -203,6 +205,30 @@ TEST(Bvh, TheTreeIsTheSameOnAnyNumberOfThreads) {
         EXPECT_EQ(differing, 0u) << threads << " threads";
         EXPECT_EQ(one.primitive_order(), many.primitive_order()) << threads << " threads";
     }
+}
+
+// The build steps' split into parts (accel/parallel.h): every index in exactly one part, the
+// parts in order, and an exception on another thread comes back to the caller once all parts
+// are done.
+TEST(ParallelParts, EveryIndexOnceAndAnExceptionReachesTheCaller) {
+    std::vector<int> seen(1000, 0), part_of(1000, -1);
+    parallel_parts(1000, 4, 1, [&](size_t begin, size_t end, int part) {
+        for (size_t i = begin; i < end; ++i) {
+            ++seen[i];
+            part_of[i] = part;
+        }
+    });
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), 1000);
+    EXPECT_TRUE(std::is_sorted(part_of.begin(), part_of.end()));
+    EXPECT_EQ(part_of.back(), 3);
+    std::vector<int> done(4, 0);
+    EXPECT_THROW(parallel_parts(1000, 4, 1,
+                                [&](size_t, size_t, int part) {
+                                    done[static_cast<size_t>(part)] = 1;
+                                    if (part == 2) throw std::runtime_error("part 2");
+                                }),
+                 std::runtime_error);
+    EXPECT_EQ(done, (std::vector<int>{1, 1, 1, 1}));  // the other parts still ran
 }
 
 TEST(Bvh, ManyIdenticalPrimitivesBuildAndTraverse) {

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <exception>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -175,44 +176,58 @@ public:
     // Runs work() on a new thread (claimed before), which becomes idle again when it returns.
     // Returns false, with the claim released, if the system refuses a thread (or memory for
     // it): the caller then does the work itself. Threads that have finished are joined here, so
-    // that their stacks go back as the build goes on.
+    // that their stacks go back as the build goes on. An exception thrown by work() (memory
+    // running out) is kept, and join_all() throws it.
     template <class Work>
     bool start(Work work) {
         std::lock_guard<std::mutex> lock(mutex_);
-        for (auto t = started_.begin(); t != started_.end();) {
-            if (t->done->load()) {
-                t->thread.join();
-                t = started_.erase(t);
-            } else {
-                ++t;
-            }
-        }
         try {
-            auto done = std::make_shared<std::atomic<bool>>(false);
-            started_.push_back({std::thread([this, work, done] {
-                                    work();
-                                    release();
-                                    done->store(true);
-                                }),
-                                done});
+            for (auto t = started_.begin(); t != started_.end();) {
+                if (t->done->load()) {
+                    t->thread.join();
+                    t = started_.erase(t);
+                } else {
+                    ++t;
+                }
+            }
+            started_.emplace_back();  // before the thread: a thread is never left unowned
+            Started& entry = started_.back();
+            entry.done = std::make_shared<std::atomic<bool>>(false);
+            try {
+                entry.thread = std::thread([this, work, done = entry.done] {
+                    try {
+                        work();
+                    } catch (...) {
+                        std::lock_guard<std::mutex> failed(mutex_);
+                        if (!failure_) failure_ = std::current_exception();
+                    }
+                    release();
+                    done->store(true);
+                });
+            } catch (...) {
+                started_.pop_back();
+                throw;
+            }
             return true;
         } catch (const std::exception&) {  // std::system_error, std::bad_alloc
             release();
             return false;
         }
     }
-    // Joins every thread started, including those started by threads started.
+    // Joins every thread started, including those started by threads started; then throws what
+    // any of them threw.
     void join_all() {
         for (;;) {
             std::thread t;
             {
                 std::lock_guard<std::mutex> lock(mutex_);
-                if (started_.empty()) return;
+                if (started_.empty()) break;
                 t = std::move(started_.back().thread);
                 started_.pop_back();
             }
             t.join();
         }
+        if (failure_) std::rethrow_exception(failure_);
     }
 
 private:
@@ -223,6 +238,7 @@ private:
     std::atomic<int> idle_;
     std::mutex mutex_;
     std::list<Started> started_;
+    std::exception_ptr failure_;  // the first exception a started thread threw
 };
 
 // Where the binary tree is cut into wide nodes: the cut with the least total surface area of
@@ -373,7 +389,10 @@ public:
         try {
             subtree({0, 0, count_, 0, root});
         } catch (...) {  // out of memory: let the other threads finish before unwinding
-            workers_.join_all();
+            try {
+                workers_.join_all();
+            } catch (...) {  // theirs: this thread's own exception goes on
+            }
             throw;
         }
         workers_.release();  // this thread is idle now: another may start
@@ -456,13 +475,20 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
     if (helpers == 0) {
         bins.add(first, last, lo, scale);
     } else {
-        // The idle threads bin a part each, this one the first; then this one merges.
+        // The idle threads bin a part each, this one the first; then this one merges. The
+        // claims go back however this ends.
+        struct Claims {
+            Workers& workers;
+            int count;
+            ~Claims() {
+                for (int i = 0; i < count; ++i) workers.release();
+            }
+        } claims{workers_, helpers};
         std::vector<Bins> partial(static_cast<size_t>(helpers + 1));
         parallel_parts(count, helpers + 1, 1, [&](size_t begin, size_t end, int part) {
             partial[part].add(first + begin, first + end, lo, scale);
         });
         for (const Bins& p : partial) bins.add(p);
-        for (int i = 0; i < helpers; ++i) workers_.release();
     }
 
     // The sweep visits occupied bins only: most nodes hold a few primitives (the leaves'

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <exception>
+#include <mutex>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -27,30 +29,41 @@ inline int part_count(size_t n, int threads, size_t min_part) {
 
 // Runs fn(begin, end, part) for the part_count(n, threads, min_part) parts of [0, n), the parts
 // in order of their ranges, and returns when all are done. If the system refuses a thread, that
-// part runs on the caller's thread.
+// part runs on the caller's thread. An exception from fn, on any thread, is thrown here once every
+// part has finished (the first one thrown, if several).
 template <class Fn>
 void parallel_parts(size_t n, int threads, size_t min_part, Fn&& fn) {
     const int parts = part_count(n, threads, min_part);
     auto range = [&](int i) { return n * static_cast<size_t>(i) / static_cast<size_t>(parts); };
-    std::vector<std::thread> started;
-    started.reserve(static_cast<size_t>(parts - 1));
-    auto join = [&] {
-        for (std::thread& t : started) t.join();
+    std::mutex mutex;
+    std::exception_ptr failure;
+    auto run = [&](int i) {
+        try {
+            fn(range(i), range(i + 1), i);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!failure) failure = std::current_exception();
+        }
     };
+    std::vector<std::thread> started;
     try {
-        for (int i = 1; i < parts; ++i) {
+        started.reserve(static_cast<size_t>(parts - 1));
+    } catch (const std::exception&) {  // then every part on this thread
+    }
+    for (int i = 1; i < parts; ++i) {
+        bool on_its_own = false;
+        if (started.size() < started.capacity()) {  // room reserved: no allocation below
             try {
-                started.emplace_back([&fn, &range, i] { fn(range(i), range(i + 1), i); });
-            } catch (const std::system_error&) {
-                fn(range(i), range(i + 1), i);
+                started.emplace_back(run, i);
+                on_its_own = true;
+            } catch (const std::exception&) {  // std::system_error, std::bad_alloc
             }
         }
-        fn(range(0), range(1), 0);
-    } catch (...) {  // from fn on this thread: the others finish before the stack unwinds
-        join();
-        throw;
+        if (!on_its_own) run(i);
     }
-    join();
+    run(0);
+    for (std::thread& t : started) t.join();
+    if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace lessons
