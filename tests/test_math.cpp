@@ -153,6 +153,54 @@ TEST(Rng, SobolSamplesStratifyEveryPairTheyDrawAtEverySampleCount) {
     EXPECT_LE(worst, 4.0);
 }
 
+TEST(Rng, Uniform2TakesOneSobolPairWhateverWasDrawnBefore) {
+    // A path vertex draws one value (which light), a 2D sample (the point on it), another (the
+    // BSDF's direction) and, later in the path, one more (Russian roulette). With Rng::sobol,
+    // uniform2() skips a value after an odd number of them, so that each 2D sample is one pair
+    // of the sequence: the first 64 samples of a pixel then put exactly one point in each cell
+    // of an 8 x 8 grid (a (0, 6, 2)-net). Two values taken one by one after an odd count
+    // straddle two pairs and do not (the test's contrast). The other samplers give the next
+    // two values, as before.
+    auto one_per_cell = [](const std::vector<Vec2>& points) {
+        std::vector<int> count(64, 0);
+        for (const Vec2& p : points)
+            ++count[std::min(7, static_cast<int>(p.x * 8)) * 8 +
+                    std::min(7, static_cast<int>(p.y * 8))];
+        return std::all_of(count.begin(), count.end(), [](int c) { return c == 1; });
+    };
+    for (uint64_t pixel = 0; pixel < 4; ++pixel) {
+        std::vector<std::vector<Vec2>> pairs(4);
+        std::vector<Vec2> straddling;
+        for (int s = 0; s < 64; ++s) {
+            Rng rng = Rng::sobol(9, pixel, s);
+            rng.uniform2();                      // the position in the pixel
+            rng.uniform();                       // which light
+            pairs[0].push_back(rng.uniform2());  // the point on it
+            pairs[1].push_back(rng.uniform2());  // the BSDF's direction
+            rng.uniform();                       // Russian roulette
+            rng.uniform();                       // the next vertex: which light
+            pairs[2].push_back(rng.uniform2());
+            pairs[3].push_back(rng.uniform2());
+            Rng odd = Rng::sobol(9, pixel, s);
+            for (int k = 0; k < 3; ++k) odd.uniform();
+            const float a = odd.uniform();
+            straddling.push_back({a, odd.uniform()});
+        }
+        for (size_t k = 0; k < pairs.size(); ++k)
+            EXPECT_TRUE(one_per_cell(pairs[k])) << "pixel " << pixel << ", 2D sample " << k;
+        EXPECT_FALSE(one_per_cell(straddling)) << "pixel " << pixel;
+    }
+    for (Rng (*make)(uint64_t, uint64_t, uint64_t) :
+         {&Rng::kronecker, +[](uint64_t a, uint64_t b, uint64_t c) { return Rng(a, b, c); }}) {
+        Rng a = make(9, 1, 5), b = make(9, 1, 5);
+        a.uniform();
+        b.uniform();
+        const Vec2 pair = a.uniform2();
+        EXPECT_EQ(pair.x, b.uniform());
+        EXPECT_EQ(pair.y, b.uniform());
+    }
+}
+
 TEST(Rng, KroneckerSamplesOfAPixelSpreadEvenly) {
     // 64 samples of one pixel: in each of the first four dimensions the sampler's values (Sobol's
     // in the first two, Kronecker's in the next) leave no gap in [0, 1) wider than 4/64 (three-gap

@@ -59,7 +59,7 @@ Color light_sample_term(const Scene& scene, const LightSampler& lights,
                         const SurfaceInteraction& si, const Bsdf& bsdf, Rng& rng, bool mis,
                         MisHeuristic heuristic) {
     const float u_choose = rng.uniform();
-    const Vec2 u_light{rng.uniform(), rng.uniform()};  // braces: left to right
+    const Vec2 u_light = rng.uniform2();
     const std::optional<LightSample> ls = lights.sample(si.surface_point(), u_choose, u_light);
     if (!ls) return Color(0.0f);
     const Color f = bsdf.eval(si.wo, ls->wi);
@@ -95,7 +95,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
     // A mirror or smooth glass reflects from one direction only: the integral collapses to that
     // direction, which only the BSDF can give (no light sample can ever land on it).
     if (bsdf.is_delta()) {
-        if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))
+        if (const auto s = bsdf.sample(wo, rng.uniform2()))
             L += brdf_sample_term(s->wi, s->f, s->pdf, false);
         return L;
     }
@@ -104,7 +104,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
         case Estimator::Uniform:
         case Estimator::Cosine: {
             const Frame frame(bsdf.normal());
-            const Vec2 u{rng.uniform(), rng.uniform()};
+            const Vec2 u = rng.uniform2();
             const bool uniform = options.estimator == Estimator::Uniform;
             const Vec3 local = uniform ? sample_uniform_hemisphere(u) : sample_cosine_hemisphere(u);
             const float pdf = uniform ? uniform_hemisphere_pdf() : cosine_hemisphere_pdf(local.z);
@@ -113,7 +113,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
             break;
         }
         case Estimator::Brdf: {
-            if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))
+            if (const auto s = bsdf.sample(wo, rng.uniform2()))
                 L += brdf_sample_term(s->wi, s->f, s->pdf, false);
             break;
         }
@@ -123,7 +123,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
             L += light_sample_term(scene, lights, si, bsdf, rng, mis, options.heuristic);
             // BSDF sample, weighted against the light sampler's density for the same direction.
             if (mis)
-                if (const auto s = bsdf.sample(wo, {rng.uniform(), rng.uniform()}))
+                if (const auto s = bsdf.sample(wo, rng.uniform2()))
                     L += brdf_sample_term(s->wi, s->f, s->pdf, true);
             break;
         }

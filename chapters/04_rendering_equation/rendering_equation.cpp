@@ -85,7 +85,7 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
                 beta * light_sample_term(scene, lights, si, bsdf, rng, true, MisHeuristic::Power));
 
         // Continue the path: wi from the BSDF, beta *= f cos / p.
-        const std::optional<BsdfSample> s = bsdf.sample(si.wo, {rng.uniform(), rng.uniform()});
+        const std::optional<BsdfSample> s = bsdf.sample(si.wo, rng.uniform2());
         if (!s) break;
         beta *= s->f * bsdf.abs_cos(s->wi) / s->pdf;
         if (is_black(beta) || !is_finite(beta)) break;

@@ -20,7 +20,7 @@ Color camera_path_found_light(const Bidir& b, const Vertex& z) {
 Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
     if (!z.connectible() || z.type != VertexType::Surface) return Color(0.0f);
     const float u_choose = rng.uniform();
-    const Vec2 u{rng.uniform(), rng.uniform()};
+    const Vec2 u = rng.uniform2();
     const std::optional<LightSample> ls = b.lights.sample(z.si.surface_point(), u_choose, u);
     if (!ls) return Color(0.0f);
     const Color f = z.bsdf->eval(z.si.wo, ls->wi);

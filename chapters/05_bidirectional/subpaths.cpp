@@ -123,7 +123,7 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
         if (static_cast<int>(path.size()) >= max_vertices) return;
 
         const std::optional<BsdfSample> s =
-            here.bsdf->sample(here.si.wo, {rng.uniform(), rng.uniform()}, transport);
+            here.bsdf->sample(here.si.wo, rng.uniform2(), transport);
         if (!s) return;
         Color weight = s->f * here.bsdf->abs_cos(s->wi) / s->pdf;  // f cos / p, as in lesson 4
         if (transport == Transport::Importance) weight *= adjoint_shading_correction(here, s->wi);
@@ -167,7 +167,8 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
                    std::vector<Vertex>& path) {
     path.clear();
     const float u_choose = rng.uniform();
-    const Vec2 u_point{rng.uniform(), rng.uniform()}, u_dir{rng.uniform(), rng.uniform()};
+    const Vec2 u_point = rng.uniform2();
+    const Vec2 u_dir = rng.uniform2();
     const std::optional<EmissionSample> e = b.lights.sample_emission(u_choose, u_point, u_dir);
     if (!e || max_vertices < 1) return;
     Vertex light;

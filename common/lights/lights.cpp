@@ -113,7 +113,7 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
                             std::nullopt};
             break;
         }
-        case Kind::Area: s = sample_area(e.index, at, u); break;
+        case Kind::Area: return sample_area(e.index, at, u, choose);  // the common case
         case Kind::Environment: {
             // A map: by its importance (environment.h); a uniform sky: uniform on the sphere.
             if (scene_.environment_map) {
@@ -135,7 +135,7 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
 }
 
 std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const SurfacePoint& at,
-                                                     const Vec2& u) const {
+                                                     const Vec2& u, float choose) const {
     const AreaLight& light = scene_.area_lights()[area_light];
     Vec3 q, n_q, q_error;
     float pdf_solid_angle = 0.0f;
@@ -207,7 +207,7 @@ std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const 
     return LightSample{light.radiance,
                        wi,
                        distance,
-                       pdf_solid_angle,
+                       pdf_solid_angle * choose,
                        false,
                        spawn_ray_between(at, {q, q_error, n_q}),
                        prim,

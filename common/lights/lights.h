@@ -120,8 +120,9 @@ private:
     size_t choose_light(float u_choose) const;
     float choice_probability(size_t light) const;
     // Both take an index into scene.area_lights().
+    // sample_area's density is per sr times `choose`, the probability of choosing the light.
     std::optional<LightSample> sample_area(uint32_t area_light, const SurfacePoint& at,
-                                           const Vec2& u) const;
+                                           const Vec2& u, float choose) const;
     float area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
     // A point uniform by area on an area light: the light's surface point, with its unit normal.
     SurfacePoint point_by_area(uint32_t area_light, const Vec2& u) const;

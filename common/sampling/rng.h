@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "geometry/math.h"
+
 namespace lessons {
 
 // 64-bit finaliser of SplitMix64 / MurmurHash3: turns structured integers (seed, pixel, sample)
@@ -113,6 +115,16 @@ public:
         if (kronecker_ && dimension_ < kSobolDims) return sobol_value(dimension_++);
         if (kronecker_ && dimension_ < kKroneckerDims) return kronecker_value(dimension_++);
         return static_cast<float>(next_u32() >> 8) * 0x1p-24f;
+    }
+
+    // Two values for one 2D sample (a point on a light, a BSDF's direction, a point in the
+    // pixel). With --sampler sobol they are one pair of the sequence, so stratified together:
+    // after an odd number of values the next one is skipped, so that the pair starts at an even
+    // dimension. The other samplers give the next two values.
+    Vec2 uniform2() {
+        if (scrambled_sobol_ && (dimension_ & 1) && dimension_ < kSobolPairDims) ++dimension_;
+        const float a = uniform();
+        return {a, uniform()};
     }
 
 private:

@@ -91,10 +91,13 @@ inline Vec2 sample_uniform_triangle(const Vec2& u) {
 struct Rectangle {
     Vec3 corner, x, y, z;
     float length_x, length_y;
+    float inverse_length_x, inverse_length_y;
     Rectangle(const Vec3& corner_, const Vec3& edge_u, const Vec3& edge_v)
         : corner(corner_), length_x(glm::length(edge_u)), length_y(glm::length(edge_v)) {
-        x = edge_u / length_x;
-        y = edge_v / length_y;
+        inverse_length_x = 1.0f / length_x;
+        inverse_length_y = 1.0f / length_y;
+        x = edge_u * inverse_length_x;
+        y = edge_v * inverse_length_y;
         z = glm::cross(x, y);
     }
 };
@@ -120,8 +123,6 @@ public:
         y0_ = glm::dot(d, r.y);
         x1_ = x0_ + r.length_x;
         y1_ = y0_ + r.length_y;
-        length_x_ = r.length_x;
-        length_y_ = r.length_y;
         // The planes through o and each edge have unit normals n0 .. n3 (n0 through the edge at
         // y0, then around), whose z components b = n.z give the interior angles:
         // cos g0 = -n0.z n1.z, and so on around. With l and r the distances from o to an edge's
@@ -147,13 +148,19 @@ public:
         if (solid_angle_ <= 0.0f) solid_angle_ += 2.0f * kPi;
         // k = 2 pi - g2 - g3, the angle where the columns start, as cos k + i sin k.
         const float g23_length = std::sqrt(g23.re * g23.re + g23.im * g23.im);
-        cos_k_ = g23.re / g23_length;
-        sin_k_ = -g23.im / g23_length;
+        const float inverse_g23_length = 1.0f / g23_length;
+        cos_k_ = g23.re * inverse_g23_length;
+        sin_k_ = -g23.im * inverse_g23_length;
         // o in the rectangle's plane sees no solid angle; g2 + g3 is undefined when o lies on
         // the line of an edge there.
         if (!(z < 0.0f) || !(g23_length > 0.0f)) solid_angle_ = 0.0f;
-        b0_ = -y0 / std::sqrt(z * z + y0 * y0);
+        // b0 = n0.z and b1 = n2.z, and 1 - b0^2 (for sample(), without its cancellation).
+        const float inverse_l0 = 1.0f / std::sqrt(z * z + y0 * y0);
+        b0_ = -y0 * inverse_l0;
         b1_ = y1 / std::sqrt(z * z + y1 * y1);
+        one_minus_b0_squared_ = z * z * inverse_l0 * inverse_l0;
+        inverse_length_x_ = r.inverse_length_x;
+        inverse_length_y_ = r.inverse_length_y;
     }
     // The same for a rectangle given by a corner and two orthogonal edges.
     SphericalRectangle(const Vec3& o, const Vec3& corner, const Vec3& edge_u, const Vec3& edge_v)
@@ -177,20 +184,24 @@ public:
         const float cos_au = cos_phi * cos_k_ - sin_phi * sin_k_;
         const float sin_au = sin_phi * cos_k_ + cos_phi * sin_k_;
         const float fu = (cos_au * b0_ - b1_) / sin_au;
-        const float cu =
-            std::clamp(std::copysign(1.0f, fu) / std::sqrt(fu * fu + b0_ * b0_), -1.0f, 1.0f);
-        const float sin_u = std::sqrt(std::max(0.0f, 1.0f - cu * cu));
-        const float xu =
-            sin_u > 0.0f ? std::clamp(-cu * z0_ / sin_u, x0_, x1_) : (cu * z0_ > 0.0f ? x0_ : x1_);
-        // Along the column, h = y / |(xu, y, z0)| is uniform in solid angle.
-        const float dist = std::sqrt(xu * xu + z0_ * z0_);
-        const float h0 = y0_ / std::sqrt(dist * dist + y0_ * y0_);
-        const float h1 = y1_ / std::sqrt(dist * dist + y1_ * y1_);
+        // The column's plane has normal z component cu = sign(fu) / sqrt(fu^2 + b0^2), and
+        // xu = -cu z0 / sqrt(1 - cu^2) = sign(fu) |z0| / sqrt(fu^2 - (1 - b0^2)): one square root
+        // and one division. Where the root's argument is not positive (|cu| >= 1), the column
+        // is an edge of the rectangle.
+        const float root2 = fu * fu - one_minus_b0_squared_;
+        const float xu = root2 > 0.0f
+                             ? std::clamp(std::copysign(z0_, fu) / std::sqrt(root2), x0_, x1_)
+                             : (fu < 0.0f ? x0_ : x1_);
+        // Along the column, h = y / |(xu, y, z0)| is uniform in solid angle; y = h d / sqrt(1 -
+        // h^2), with d = |(xu, z0)|.
+        const float d2 = xu * xu + z0_ * z0_;
+        const float h0 = y0_ / std::sqrt(d2 + y0_ * y0_);
+        const float h1 = y1_ / std::sqrt(d2 + y1_ * y1_);
         const float hv = h0 + u.y * (h1 - h0);
         const float hv2 = hv * hv;
-        const float yv = hv2 < 1.0f - 1e-6f ? hv * dist / std::sqrt(1.0f - hv2) : y1_;
-        return {std::clamp((xu - x0_) / length_x_, 0.0f, 1.0f),
-                std::clamp((yv - y0_) / length_y_, 0.0f, 1.0f)};
+        const float yv = hv2 < 1.0f - 1e-6f ? hv * std::sqrt(d2) / std::sqrt(1.0f - hv2) : y1_;
+        return {std::clamp((xu - x0_) * inverse_length_x_, 0.0f, 1.0f),
+                std::clamp((yv - y0_) * inverse_length_y_, 0.0f, 1.0f)};
     }
 
 private:
@@ -202,8 +213,9 @@ private:
             return {re * o.re - im * o.im, re * o.im + im * o.re};
         }
     };
-    float x0_, x1_, y0_, y1_, z0_, length_x_, length_y_;
-    float b0_, b1_, cos_k_, sin_k_, solid_angle_;
+    float x0_, x1_, y0_, y1_, z0_;
+    float b0_, b1_, one_minus_b0_squared_, cos_k_, sin_k_, solid_angle_;
+    float inverse_length_x_, inverse_length_y_;
 };
 inline float spherical_rectangle_pdf(const SphericalRectangle& r) {
     return 1.0f / r.solid_angle();
