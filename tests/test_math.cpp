@@ -154,8 +154,9 @@ TEST(Rng, SobolSamplesStratifyEveryPairTheyDrawAtEverySampleCount) {
 }
 
 TEST(Rng, Uniform2TakesOneSobolPairWhateverWasDrawnBefore) {
-    // A path vertex draws one value (which light), a 2D sample (the point on it), another (the
-    // BSDF's direction) and, later in the path, one more (Russian roulette). With Rng::sobol,
+    // A path vertex draws one value (which light), a 2D sample (the point on it) and another
+    // (the BSDF's direction); here two vertices, each with a skip before its light's point (in
+    // the render, Russian roulette adds one value per vertex from the fourth on). With Rng::sobol,
     // uniform2() skips a value after an odd number of them, so that each 2D sample is one pair
     // of the sequence: the first 64 samples of a pixel then put exactly one point in each cell
     // of an 8 x 8 grid (a (0, 6, 2)-net). Two values taken one by one after an odd count
@@ -177,7 +178,6 @@ TEST(Rng, Uniform2TakesOneSobolPairWhateverWasDrawnBefore) {
             rng.uniform();                       // which light
             pairs[0].push_back(rng.uniform2());  // the point on it
             pairs[1].push_back(rng.uniform2());  // the BSDF's direction
-            rng.uniform();                       // Russian roulette
             rng.uniform();                       // the next vertex: which light
             pairs[2].push_back(rng.uniform2());
             pairs[3].push_back(rng.uniform2());

@@ -108,9 +108,8 @@ Rng sample_rng(const RenderSettings& settings, size_t pixel, int s) {
 // The camera ray through film pixel (x, y), placed in it by the sample's first two numbers.
 Ray camera_ray(const Camera& camera, const RenderSettings& settings, const Window& window, int x,
                int y, Rng& rng) {
-    const float jx = settings.jitter ? rng.uniform() : 0.5f;
-    const float jy = settings.jitter ? rng.uniform() : 0.5f;
-    return camera.generate_ray(window.x0 + x + jx, window.y0 + y + jy, window.image_width,
+    const Vec2 j = settings.jitter ? rng.uniform2() : Vec2(0.5f);
+    return camera.generate_ray(window.x0 + x + j.x, window.y0 + y + j.y, window.image_width,
                                window.image_height);
 }
 

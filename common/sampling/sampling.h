@@ -191,7 +191,7 @@ public:
         const float root2 = fu * fu - one_minus_b0_squared_;
         const float xu = root2 > 0.0f
                              ? std::clamp(std::copysign(z0_, fu) / std::sqrt(root2), x0_, x1_)
-                             : (fu < 0.0f ? x0_ : x1_);
+                             : (std::signbit(fu) ? x0_ : x1_);
         // Along the column, h = y / |(xu, y, z0)| is uniform in solid angle; y = h d / sqrt(1 -
         // h^2), with d = |(xu, z0)|.
         const float d2 = xu * xu + z0_ * z0_;
