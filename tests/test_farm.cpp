@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "io/input_error.h"
@@ -179,6 +181,45 @@ TEST(Farm, APartIsReadBackExactly) {
         EXPECT_TRUE(same_pixel(p.films[1].pixels()[i], layer.pixels()[i])) << i;
         EXPECT_EQ(p.films[0].pixels()[i].sum_squares, image.pixels()[i].sum_squares);
     }
+}
+
+// A lesson writes parts with ZIP: another codec is refused before tinyexr decodes (its rarer
+// decoders abort on an assert when the data is damaged).
+TEST(Farm, APartInAnotherCodecIsRefusedBeforeDecoding) {
+    Film image(4, 2);
+    for (int i = 0; i < 8; ++i) image.add_sample(i, Color(0.5f * i));
+    PartHeader h;
+    h.lesson = "01_ray_casting";
+    h.scene = "scenes/x.toml";
+    h.scene_hash = "0123456789abcdef";
+    h.image_width = 4;
+    h.image_height = 2;
+    h.x1 = 4;
+    h.y1 = 2;
+    h.sample_end = h.planned_end = 1;
+    h.films = {"image"};
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "lessons_test_part_codec.exr").string();
+    write_part(path, h, std::vector<Film>{image});
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const std::string attribute("compression\0compression\0\1\0\0\0", 28);
+    const size_t at = bytes.find(attribute);
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(bytes[at + attribute.size()], 3);  // ZIP
+    EXPECT_EQ(read_part(path).films.size(), 1u);
+    bytes[at + attribute.size()] = 4;  // PIZ
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+        read_part(path);
+        ADD_FAILURE() << "expected an error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "compression") << e.what();
+    }
+    std::filesystem::remove(path);
 }
 
 TEST(Farm, CoverageNamesTheMissingPiecesAndTheSamplesReached) {

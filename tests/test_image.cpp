@@ -1,9 +1,14 @@
 // Image output: EXR round trip, the sRGB curve, atomic writes.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "io/image.h"
+#include "io/input_error.h"
+#include "render/part.h"
 #include "render/film.h"
 
 using namespace lessons;
@@ -26,6 +31,102 @@ TEST(Image, ExrRoundTripIsExactInFloat) {
     ASSERT_EQ(back.height, 5);
     for (size_t i = 0; i < image.pixels.size(); ++i) EXPECT_EQ(back.pixels[i], image.pixels[i]);
     std::filesystem::remove(path);
+}
+
+namespace {
+// One EXR header attribute's bytes: name, type, little-endian size, value.
+std::string exr_attribute(const std::string& name, const std::string& type,
+                          const std::string& value) {
+    std::string a = name + '\0' + type + '\0';
+    const uint32_t n = static_cast<uint32_t>(value.size());
+    for (int i = 0; i < 4; ++i) a.push_back(static_cast<char>((n >> (8 * i)) & 0xff));
+    return a + value;
+}
+std::string read_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+void write_bytes(const std::string& path, const std::string& bytes) {
+    std::ofstream(path, std::ios::binary) << bytes;
+}
+// The field of the InputError `read` throws, or "(none)" / "(other)".
+template <class Read>
+std::string error_field(Read&& read) {
+    try {
+        read();
+    } catch (const InputError& e) {
+        return e.field();
+    } catch (const std::exception&) {
+        return "(other)";
+    }
+    return "(none)";
+}
+}  // namespace
+
+// Debian's tinyexr aborts the process on an assert for these headers (found by fuzz_part): they
+// must be input errors naming the attribute, in the image reader and the part reader alike,
+// while a header that states its scanline type correctly still reads.
+TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
+    Image image(3, 2);
+    image.at(2, 1) = Color(0.25f, 0.5f, 4.0f);
+    const std::string good = temp_path("header_good.exr");
+    write_exr(image, good);
+    const std::string bytes = read_bytes(good);
+    ASSERT_GT(bytes.size(), 8u);
+    const std::string magic = bytes.substr(0, 4), scanline = magic + std::string("\2\0\0\0", 4),
+                      tiled = magic + std::string("\2\2\0\0", 4);
+    // The file with `attribute` put first in its header and the given version bytes; the line
+    // offsets after the header (absolute positions in the file) move with it.
+    size_t header_end = 8;
+    while (bytes.at(header_end) != '\0') {
+        header_end = bytes.find('\0', bytes.find('\0', header_end) + 1) + 1;
+        uint32_t size = 0;
+        std::memcpy(&size, bytes.data() + header_end, 4);
+        header_end += 4 + size;
+    }
+    const size_t table = header_end + 1;
+    uint64_t first_chunk = 0;
+    std::memcpy(&first_chunk, bytes.data() + table, 8);
+    const auto with = [&](const std::string& version, const std::string& attribute) {
+        std::string file = version + attribute + bytes.substr(8);
+        for (size_t at = table; at < first_chunk; at += 8) {
+            uint64_t offset = 0;
+            std::memcpy(&offset, bytes.data() + at, 8);
+            offset += attribute.size();
+            std::memcpy(file.data() + at + attribute.size(), &offset, 8);
+        }
+        return file;
+    };
+    const std::string path = temp_path("header_bad.exr");
+
+    write_bytes(path, with(scanline, exr_attribute("type", "string", "scanlineimage")));
+    const Image back = read_exr(path);
+    ASSERT_EQ(back.width, 3);
+    EXPECT_EQ(back.at(2, 1), image.at(2, 1));
+
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {with(scanline, exr_attribute("type", "string", "bogus")), "type"},
+        {with(scanline, exr_attribute("type", "string", "tiledimage")), "type"},
+        {with(scanline, exr_attribute("type", "string", "deepscanline")), "type"},
+        {with(tiled, exr_attribute("tiles", "tiledesc", "1234")), "tiles"},
+        {with(tiled, exr_attribute("tiles", "tiledesc", std::string(9, '\1')) +
+                         exr_attribute("type", "string", "scanlineimage")),
+         "type"},
+        // A damaged header after the type: tinyexr's parse fails there, then converts (and
+        // asserts on) what it read.
+        {scanline + exr_attribute("type", "string", "bogus") + std::string("x\0y\0\xff\xff", 6),
+         "type"},
+    };
+    for (const auto& [file, field] : cases) {
+        write_bytes(path, file);
+        EXPECT_EQ(error_field([&] { read_exr(path); }), field) << field;
+        EXPECT_EQ(error_field([&] { check_exr_header(path); }), field) << field;
+    }
+    // The part reader checks before tinyexr parses (the tiled cases it refuses earlier).
+    write_bytes(path, cases[0].first);
+    EXPECT_EQ(error_field([&] { read_part(path); }), "type");
+    std::filesystem::remove(path);
+    std::filesystem::remove(good);
 }
 
 TEST(Image, SrgbCurveMatchesTheStandard) {

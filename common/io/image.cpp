@@ -5,6 +5,8 @@
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
+#include "io/input_error.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -14,7 +16,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace lessons {
 
@@ -121,7 +126,78 @@ Image read_image(const std::string& path) {
     return image;
 }
 
+// Reads the header's attributes with the rules of tinyexr's own parser (a name and a type, each
+// ending in a NUL byte, a 4-byte little-endian size, the value; an empty name ends the header),
+// so that it sees every attribute tinyexr would, and stops where tinyexr's parse would fail.
+void check_exr_header(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return;  // (tinyexr names a missing or unreadable file)
+    in.seekg(0, std::ios::end);
+    const std::streamoff file_size = in.tellg();
+    in.seekg(0);
+    unsigned char version[8];
+    if (file_size < 8 || !in.read(reinterpret_cast<char*>(version), 8)) return;
+    if (version[0] != 0x76 || version[1] != 0x2f || version[2] != 0x31 || version[3] != 0x01 ||
+        version[4] != 2)
+        return;
+    // tinyexr reads "tiles" only in files flagged tiled, deep or multi-part (bits 9, 11, 12).
+    const bool reads_tiles = (version[5] & (0x2 | 0x8 | 0x10)) != 0;
+    // A string up to its NUL byte, keeping at most `keep` characters; false at the end of file.
+    const auto read_name = [&](std::string& out, size_t keep) {
+        out.clear();
+        for (int c; (c = in.get()) != EOF;) {
+            if (c == 0) return true;
+            if (out.size() < keep) out.push_back(static_cast<char>(c));
+        }
+        return false;
+    };
+    std::vector<std::string> types;
+    bool tiles = false;
+    const auto fail = [&](const char* field, const std::string& message) {
+        throw InputError(path, 0, field, message);
+    };
+    // The attributes up to the end of the header or to where tinyexr's parse stops (whose header
+    // tinyexr still converts, and asserts on).
+    const auto scan = [&] {
+        for (int count = 0;; ++count) {
+            const int first = in.peek();
+            if (first == EOF || first == 0) return;  // (0: the end of the header)
+            if (count == 1024) fail("", "more than 1024 header attributes (damaged?)");
+            std::string name, type_name;
+            if (!read_name(name, 64) || !read_name(type_name, 64)) return;
+            unsigned char size_bytes[4];
+            if (!in.read(reinterpret_cast<char*>(size_bytes), 4)) return;
+            const uint32_t size = size_bytes[0] | size_bytes[1] << 8 | size_bytes[2] << 16 |
+                                  static_cast<uint32_t>(size_bytes[3]) << 24;
+            const std::streamoff here = in.tellg();
+            if (size == 0 && type_name != "string") return;
+            if (static_cast<std::streamoff>(size) > file_size - here) return;
+            if (name == "type" && size > 0) {
+                // tinyexr keeps the value up to its first NUL byte; an empty value is no type.
+                std::string value(std::min<uint32_t>(size, 64), '\0');
+                in.read(value.data(), static_cast<std::streamsize>(value.size()));
+                value.resize(std::strlen(value.c_str()));
+                if (!value.empty()) types.push_back(value);
+            } else if (name == "tiles" && reads_tiles) {
+                if (size != 9) fail("tiles", "is " + std::to_string(size) + " bytes, not 9");
+                tiles = true;
+            }
+            in.seekg(here + static_cast<std::streamoff>(size));
+        }
+    };
+    scan();
+    for (const std::string& type : types) {
+        if (type != "scanlineimage" && type != "tiledimage")
+            fail("type", "'" + type.substr(0, 32) +
+                             "' is not a scanline or tiled image (deep images are not read)");
+        if ((type == "tiledimage") != tiles)
+            fail("type", "'" + type + "' contradicts the header's " +
+                             (tiles ? "tiles attribute" : "missing tiles attribute"));
+    }
+}
+
 Image read_exr(const std::string& path) {
+    check_exr_header(path);
     float* rgba = nullptr;
     int w = 0, h = 0;
     const char* err = nullptr;

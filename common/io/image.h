@@ -30,6 +30,12 @@ void write_exr(const Image& image, const std::string& path);
 void write_png(const Image& image, const std::string& path, float exposure_stops = 0.0f);
 // Reads an EXR's RGB channels. Throws std::runtime_error naming the file on failure.
 Image read_exr(const std::string& path);
+// Checks the EXR header's attributes that Debian's tinyexr (1.0.1) asserts on instead of
+// reporting: a "type" other than a scanline or tiled image, one that contradicts the "tiles"
+// attribute, a "tiles" attribute of the wrong size, more than 1024 attributes. Throws an
+// InputError naming the file and the attribute; leaves every other fault to tinyexr's own
+// errors. Call it before any tinyexr function that parses the file's header.
+void check_exr_header(const std::string& path);
 // Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
 Image read_image(const std::string& path);
 // The PNG's bytes of write_png: each channel times 2^exposure, clamped, sRGB-encoded, 8 bits.

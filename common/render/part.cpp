@@ -15,6 +15,7 @@
 
 #include "io/input_error.h"
 #include "io/gltf_file.h"
+#include "io/image.h"
 #include "io/input_file.h"
 #include "io/scene_file.h"
 
@@ -275,6 +276,7 @@ void open_exr(const std::string& path, LoadedExr& exr) {
         throw InputError(path, 0, "", "is not an EXR file");
     if (version.multipart || version.non_image || version.tiled)
         throw InputError(path, 0, "", "is not a part written by a lesson (--samples/--pixels)");
+    check_exr_header(path);  // (what tinyexr would abort on)
     const char* err = nullptr;
     const int status = ParseEXRHeaderFromFile(&exr.header, &version, path.c_str(), &err);
     exr.header_parsed = true;  // (tinyexr fills the header even when it fails: free it)
@@ -559,6 +561,15 @@ PartFile read_part(const std::string& path, bool with_pixels) {
                          "the image in the file is not of the crop's size " + h.pixels_text());
     const std::map<std::string, int> channel_index = check_channels(path, exr, h);
     if (!with_pixels) return part;
+    // A lesson writes ZIP; refusing the other codecs keeps tinyexr's less tried decoders (whose
+    // faults are asserts that abort) away from damaged parts.
+    const int compression = exr.header.compression_type;
+    if (compression != TINYEXR_COMPRESSIONTYPE_ZIP && compression != TINYEXR_COMPRESSIONTYPE_ZIPS &&
+        compression != TINYEXR_COMPRESSIONTYPE_NONE)
+        throw InputError(path, 0, "compression",
+                         "is codec " + std::to_string(compression) +
+                             ": a lesson writes parts with ZIP (" +
+                             std::to_string(TINYEXR_COMPRESSIONTYPE_ZIP) + ")");
 
     const ChannelWords words = load_merge_channels(path, exr, h, channel_index);
     const std::string stored_sum = fields.at("lessons.checksum");
