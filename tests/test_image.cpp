@@ -1,6 +1,7 @@
 // Image output: EXR round trip, the sRGB curve, atomic writes.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -8,8 +9,8 @@
 
 #include "io/image.h"
 #include "io/input_error.h"
-#include "render/part.h"
 #include "render/film.h"
+#include "render/part.h"
 
 using namespace lessons;
 
@@ -104,7 +105,7 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
     ASSERT_EQ(back.width, 3);
     EXPECT_EQ(back.at(2, 1), image.at(2, 1));
 
-    const std::vector<std::pair<std::string, std::string>> cases = {
+    std::vector<std::pair<std::string, std::string>> cases = {
         {with(scanline, exr_attribute("type", "string", "bogus")), "type"},
         {with(scanline, exr_attribute("type", "string", "tiledimage")), "type"},
         {with(scanline, exr_attribute("type", "string", "deepscanline")), "type"},
@@ -117,6 +118,20 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
         {scanline + exr_attribute("type", "string", "bogus") + std::string("x\0y\0\xff\xff", 6),
          "type"},
     };
+    // Data windows tinyexr sizes with overflowing int arithmetic, or would allocate for.
+    const auto with_window = [&](int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+        std::string file = bytes;
+        const std::string name("dataWindow\0box2i\0\x10\0\0\0", 21);
+        const size_t at = file.find(name);
+        EXPECT_NE(at, std::string::npos);
+        const int32_t v[4] = {x0, y0, x1, y1};
+        std::memcpy(file.data() + at + name.size(), v, 16);
+        return file;
+    };
+    cases.push_back({with_window(0, INT32_MIN, 2, 1), "dataWindow"});      // height wraps
+    cases.push_back({with_window(0, 0, 1 << 24, 1), "dataWindow"});        // too wide
+    cases.push_back({with_window(0, 0, 999'999, 999'999), "dataWindow"});  // 10^12 pixels
+    cases.push_back({with_window(0, 0, -1, 1), "dataWindow"});             // empty
     for (const auto& [file, field] : cases) {
         write_bytes(path, file);
         EXPECT_EQ(error_field([&] { read_exr(path); }), field) << field;

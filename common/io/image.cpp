@@ -5,9 +5,8 @@
 #include <stb_image_write.h>
 #include <tinyexr.h>
 
-#include "io/input_error.h"
-
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -20,6 +19,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "io/input_error.h"
 
 namespace lessons {
 
@@ -152,6 +153,7 @@ void check_exr_header(const std::string& path) {
         return false;
     };
     std::vector<std::string> types;
+    std::vector<std::array<int32_t, 4>> windows;  // min x, min y, max x, max y
     bool tiles = false;
     const auto fail = [&](const char* field, const std::string& message) {
         throw InputError(path, 0, field, message);
@@ -178,6 +180,15 @@ void check_exr_header(const std::string& path) {
                 in.read(value.data(), static_cast<std::streamsize>(value.size()));
                 value.resize(std::strlen(value.c_str()));
                 if (!value.empty()) types.push_back(value);
+            } else if (name == "dataWindow" && size >= 16) {
+                unsigned char box[16];
+                in.read(reinterpret_cast<char*>(box), 16);
+                std::array<int32_t, 4> v;
+                for (int k = 0; k < 4; ++k)
+                    v[k] = static_cast<int32_t>(box[4 * k] | box[4 * k + 1] << 8 |
+                                                box[4 * k + 2] << 16 |
+                                                static_cast<uint32_t>(box[4 * k + 3]) << 24);
+                windows.push_back(v);
             } else if (name == "tiles" && reads_tiles) {
                 if (size != 9) fail("tiles", "is " + std::to_string(size) + " bytes, not 9");
                 tiles = true;
@@ -186,6 +197,25 @@ void check_exr_header(const std::string& path) {
         }
     };
     scan();
+    // tinyexr takes a window's size in int arithmetic, which overflows for windows from near
+    // -2^31 to near 2^31 (and then allocates for the wrapped count): sizes in 64 bits, within
+    // tinyexr's own limit per side, and no more pixels than a file of this size can encode (no
+    // codec packs 4096 pixels into a byte; a constant 4096 x 4096 image in ZIP takes ~80 each).
+    constexpr int64_t kMaxSide = 8192 * 1024;  // TINYEXR_DIMENSION_THRESHOLD
+    for (const auto& v : windows) {
+        const int64_t w = int64_t{v[2]} - v[0] + 1, h = int64_t{v[3]} - v[1] + 1;
+        const std::string text = "(" + std::to_string(v[0]) + ", " + std::to_string(v[1]) +
+                                 ") to (" + std::to_string(v[2]) + ", " + std::to_string(v[3]) +
+                                 ")";
+        if (w < 1 || h < 1) fail("dataWindow", text + " holds no pixels");
+        if (w > kMaxSide || h > kMaxSide)
+            fail("dataWindow",
+                 text + " is over " + std::to_string(kMaxSide) + " pixels wide or tall");
+        if (w * h > 4096 * static_cast<int64_t>(file_size))
+            fail("dataWindow", text + " holds " + std::to_string(w * h) +
+                                   " pixels, more than a file of " + std::to_string(file_size) +
+                                   " bytes can encode (damaged?)");
+    }
     for (const std::string& type : types) {
         if (type != "scanlineimage" && type != "tiledimage")
             fail("type", "'" + type.substr(0, 32) +

@@ -32,7 +32,9 @@ void write_png(const Image& image, const std::string& path, float exposure_stops
 Image read_exr(const std::string& path);
 // Checks the EXR header's attributes that Debian's tinyexr (1.0.1) asserts on instead of
 // reporting: a "type" other than a scanline or tiled image, one that contradicts the "tiles"
-// attribute, a "tiles" attribute of the wrong size, more than 1024 attributes. Throws an
+// attribute, a "tiles" attribute of the wrong size, more than 1024 attributes; and the data
+// windows it sizes in overflowing int arithmetic, or that claim more pixels (over 4096 per
+// byte) than the file can encode, which it would allocate before reading them. Throws an
 // InputError naming the file and the attribute; leaves every other fault to tinyexr's own
 // errors. Call it before any tinyexr function that parses the file's header.
 void check_exr_header(const std::string& path);
