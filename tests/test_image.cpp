@@ -6,6 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "io/image.h"
 #include "io/input_error.h"
@@ -104,15 +107,33 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
     const Image back = read_exr(path);
     ASSERT_EQ(back.width, 3);
     EXPECT_EQ(back.at(2, 1), image.at(2, 1));
+    // A chunk count that is the file's (its offset table's length) reads the same image.
+    const auto chunk_count = [](uint32_t n) {
+        return exr_attribute("chunkCount", "int", std::string(reinterpret_cast<char*>(&n), 4));
+    };
+    const auto chunks = static_cast<uint32_t>((first_chunk - table) / 8);
+    write_bytes(path, with(scanline, chunk_count(chunks)));
+    EXPECT_EQ(read_exr(path).at(2, 1), image.at(2, 1));
 
     std::vector<std::pair<std::string, std::string>> cases = {
         {with(scanline, exr_attribute("type", "string", "bogus")), "type"},
         {with(scanline, exr_attribute("type", "string", "tiledimage")), "type"},
         {with(scanline, exr_attribute("type", "string", "deepscanline")), "type"},
-        {with(tiled, exr_attribute("tiles", "tiledesc", "1234")), "tiles"},
-        {with(tiled, exr_attribute("tiles", "tiledesc", std::string(9, '\1')) +
-                         exr_attribute("type", "string", "scanlineimage")),
+        // Tiled files (tinyexr aborts on a level mode of 3, divides by a tile size of 0).
+        {with(tiled, exr_attribute("tiles", "tiledesc", "1234")), ""},
+        {with(tiled, exr_attribute("tiles", "tiledesc", std::string(9, '\0')) +
+                         exr_attribute("type", "string", "tiledimage")),
+         ""},
+        // A type before an attribute on which tinyexr's parse stops (codec 9 is unknown).
+        {scanline + exr_attribute("type", "string", "tiledimage") +
+             exr_attribute("compression", "compression", "\x09"),
          "type"},
+        // More line offsets than the file holds: tinyexr would allocate them first.
+        {with(scanline, chunk_count(0x7fffffff)), "chunkCount"},
+        // Another count: tinyexr reads offsets that are not the table's (a count of 1 for this
+        // file's 2 gave garbage for the second line: a wrong image, silently).
+        {with(scanline, chunk_count(chunks > 1 ? chunks - 1 : 2)), "chunkCount"},
+        {with(scanline, chunk_count(chunks + 1)), "chunkCount"},
         // A damaged header after the type: tinyexr's parse fails there, then converts (and
         // asserts on) what it read.
         {scanline + exr_attribute("type", "string", "bogus") + std::string("x\0y\0\xff\xff", 6),
@@ -137,9 +158,12 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
         EXPECT_EQ(error_field([&] { read_exr(path); }), field) << field;
         EXPECT_EQ(error_field([&] { check_exr_header(path); }), field) << field;
     }
-    // The part reader checks before tinyexr parses (the tiled cases it refuses earlier).
-    write_bytes(path, cases[0].first);
-    EXPECT_EQ(error_field([&] { read_part(path); }), "type");
+    // The part reader checks before tinyexr parses too (the tiled files it refuses itself).
+    for (const auto& [file, field] : cases) {
+        if (field.empty()) continue;
+        write_bytes(path, file);
+        EXPECT_EQ(error_field([&] { read_part(path); }), field) << field;
+    }
     std::filesystem::remove(path);
     std::filesystem::remove(good);
 }

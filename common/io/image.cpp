@@ -130,6 +130,8 @@ Image read_image(const std::string& path) {
 // Reads the header's attributes with the rules of tinyexr's own parser (a name and a type, each
 // ending in a NUL byte, a 4-byte little-endian size, the value; an empty name ends the header),
 // so that it sees every attribute tinyexr would, and stops where tinyexr's parse would fail.
+// tinyexr converts (and asserts on) what it read even when its parse fails part way, so every
+// attribute up to the stop is checked, not only the last of a name.
 void check_exr_header(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return;  // (tinyexr names a missing or unreadable file)
@@ -141,8 +143,18 @@ void check_exr_header(const std::string& path) {
     if (version[0] != 0x76 || version[1] != 0x2f || version[2] != 0x31 || version[3] != 0x01 ||
         version[4] != 2)
         return;
-    // tinyexr reads "tiles" only in files flagged tiled, deep or multi-part (bits 9, 11, 12).
-    const bool reads_tiles = (version[5] & (0x2 | 0x8 | 0x10)) != 0;
+    const auto fail = [&](const char* field, const std::string& message) {
+        throw InputError(path, 0, field, message);
+    };
+    // Tiled (bit 9), deep (bit 11) and multi-part (bit 12) files take tinyexr's least tried
+    // paths, several of which abort on damaged data (a level mode of 3, a tile size of 0):
+    // the suite reads single-part scanline images only, as every renderer and editor can write.
+    if ((version[5] & (0x2 | 0x8 | 0x10)) != 0)
+        fail("", std::string("is a ") +
+                     ((version[5] & 0x10)  ? "multi-part"
+                      : (version[5] & 0x8) ? "deep"
+                                           : "tiled") +
+                     " EXR: the suite reads single-part scanline EXR files (save it as scanlines)");
     // A string up to its NUL byte, keeping at most `keep` characters; false at the end of file.
     const auto read_name = [&](std::string& out, size_t keep) {
         out.clear();
@@ -152,57 +164,19 @@ void check_exr_header(const std::string& path) {
         }
         return false;
     };
-    std::vector<std::string> types;
-    std::vector<std::array<int32_t, 4>> windows;  // min x, min y, max x, max y
-    bool tiles = false;
-    const auto fail = [&](const char* field, const std::string& message) {
-        throw InputError(path, 0, field, message);
+    const auto read_int = [&](int32_t& v) {
+        unsigned char b[4];
+        if (!in.read(reinterpret_cast<char*>(b), 4)) return false;
+        v = static_cast<int32_t>(b[0] | b[1] << 8 | b[2] << 16 | static_cast<uint32_t>(b[3]) << 24);
+        return true;
     };
-    // The attributes up to the end of the header or to where tinyexr's parse stops (whose header
-    // tinyexr still converts, and asserts on).
-    const auto scan = [&] {
-        for (int count = 0;; ++count) {
-            const int first = in.peek();
-            if (first == EOF || first == 0) return;  // (0: the end of the header)
-            if (count == 1024) fail("", "more than 1024 header attributes (damaged?)");
-            std::string name, type_name;
-            if (!read_name(name, 64) || !read_name(type_name, 64)) return;
-            unsigned char size_bytes[4];
-            if (!in.read(reinterpret_cast<char*>(size_bytes), 4)) return;
-            const uint32_t size = size_bytes[0] | size_bytes[1] << 8 | size_bytes[2] << 16 |
-                                  static_cast<uint32_t>(size_bytes[3]) << 24;
-            const std::streamoff here = in.tellg();
-            if (size == 0 && type_name != "string") return;
-            if (static_cast<std::streamoff>(size) > file_size - here) return;
-            if (name == "type" && size > 0) {
-                // tinyexr keeps the value up to its first NUL byte; an empty value is no type.
-                std::string value(std::min<uint32_t>(size, 64), '\0');
-                in.read(value.data(), static_cast<std::streamsize>(value.size()));
-                value.resize(std::strlen(value.c_str()));
-                if (!value.empty()) types.push_back(value);
-            } else if (name == "dataWindow" && size >= 16) {
-                unsigned char box[16];
-                in.read(reinterpret_cast<char*>(box), 16);
-                std::array<int32_t, 4> v;
-                for (int k = 0; k < 4; ++k)
-                    v[k] = static_cast<int32_t>(box[4 * k] | box[4 * k + 1] << 8 |
-                                                box[4 * k + 2] << 16 |
-                                                static_cast<uint32_t>(box[4 * k + 3]) << 24);
-                windows.push_back(v);
-            } else if (name == "tiles" && reads_tiles) {
-                if (size != 9) fail("tiles", "is " + std::to_string(size) + " bytes, not 9");
-                tiles = true;
-            }
-            in.seekg(here + static_cast<std::streamoff>(size));
-        }
-    };
-    scan();
     // tinyexr takes a window's size in int arithmetic, which overflows for windows from near
     // -2^31 to near 2^31 (and then allocates for the wrapped count): sizes in 64 bits, within
-    // tinyexr's own limit per side, and no more pixels than a file of this size can encode (no
-    // codec packs 4096 pixels into a byte; a constant 4096 x 4096 image in ZIP takes ~80 each).
-    constexpr int64_t kMaxSide = 8192 * 1024;  // TINYEXR_DIMENSION_THRESHOLD
-    for (const auto& v : windows) {
+    // tinyexr's own limit per side, fewer than 2^31 pixels (its loops count them in an int), and
+    // no more pixels than a file of this size can encode (no codec packs 4096 into a byte: a
+    // constant 4096 x 4096 image takes 156 per byte in ZIP half floats).
+    const auto check_window = [&](const std::array<int32_t, 4>& v) {
+        constexpr int64_t kMaxSide = 8192 * 1024;  // TINYEXR_DIMENSION_THRESHOLD
         const int64_t w = int64_t{v[2]} - v[0] + 1, h = int64_t{v[3]} - v[1] + 1;
         const std::string text = "(" + std::to_string(v[0]) + ", " + std::to_string(v[1]) +
                                  ") to (" + std::to_string(v[2]) + ", " + std::to_string(v[3]) +
@@ -211,18 +185,60 @@ void check_exr_header(const std::string& path) {
         if (w > kMaxSide || h > kMaxSide)
             fail("dataWindow",
                  text + " is over " + std::to_string(kMaxSide) + " pixels wide or tall");
-        if (w * h > 4096 * static_cast<int64_t>(file_size))
+        if (w * h > std::min<int64_t>(INT32_MAX, 4096 * static_cast<int64_t>(file_size)))
             fail("dataWindow", text + " holds " + std::to_string(w * h) +
                                    " pixels, more than a file of " + std::to_string(file_size) +
                                    " bytes can encode (damaged?)");
+    };
+    int64_t lines = 0;   // the last data window's
+    int32_t chunks = 0;  // the last chunk count
+    int codec = 0;       // the last compression
+    for (int count = 0;; ++count) {
+        const int first = in.peek();
+        if (first == EOF) return;  // (tinyexr: no end of header)
+        if (first == 0) break;     // the end of the header
+        // (tinyexr reads at most 1024 attributes; stopping here keeps both on the same ones)
+        if (count == 1024) fail("", "more than 1024 header attributes (damaged?)");
+        std::string name, type_name;
+        if (!read_name(name, 64) || !read_name(type_name, 64)) return;
+        int32_t raw_size = 0;
+        if (!read_int(raw_size)) return;
+        const auto size = static_cast<uint32_t>(raw_size);
+        const std::streamoff here = in.tellg();
+        if (size == 0 && type_name != "string") return;
+        if (static_cast<std::streamoff>(size) > file_size - here) return;
+        if (name == "type" && size > 0) {
+            // tinyexr keeps the value up to its first NUL byte (an empty value is no type), and
+            // asserts on any value but the four it knows, and on a tiled or deep one here.
+            std::string value(std::min<uint32_t>(size, 64), '\0');
+            in.read(value.data(), static_cast<std::streamsize>(value.size()));
+            value.resize(std::strlen(value.c_str()));
+            if (!value.empty() && value != "scanlineimage")
+                fail("type", "'" + value.substr(0, 32) +
+                                 "' is not a scanline image (the suite reads scanline EXR files)");
+        } else if (name == "dataWindow" && size >= 16) {
+            std::array<int32_t, 4> v;
+            for (int32_t& x : v)
+                if (!read_int(x)) return;
+            check_window(v);
+            lines = int64_t{v[3]} - v[1] + 1;
+        } else if (name == "chunkCount" && size >= 4) {
+            if (!read_int(chunks)) return;
+        } else if (name == "compression") {
+            codec = in.get();
+        }
+        in.seekg(here + static_cast<std::streamoff>(size));
     }
-    for (const std::string& type : types) {
-        if (type != "scanlineimage" && type != "tiledimage")
-            fail("type", "'" + type.substr(0, 32) +
-                             "' is not a scanline or tiled image (deep images are not read)");
-        if ((type == "tiledimage") != tiles)
-            fail("type", "'" + type + "' contradicts the header's " +
-                             (tiles ? "tiles attribute" : "missing tiles attribute"));
+    // tinyexr takes a positive chunk count as the number of line offsets, allocated before they
+    // are read, and reads a wrong image when it is not the data window's: it must be that.
+    if (chunks > 0) {
+        const int64_t per_chunk = codec == 3 ? 16 : codec == 4 ? 32 : 1;  // ZIP, PIZ, the others
+        const int64_t expected = (lines + per_chunk - 1) / per_chunk;
+        if (chunks != expected)
+            fail("chunkCount", "is " + std::to_string(chunks) + ", but the data window's " +
+                                   std::to_string(lines) + " lines make " +
+                                   std::to_string(expected) + " chunks in codec " +
+                                   std::to_string(codec));
     }
 }
 

@@ -30,13 +30,13 @@ void write_exr(const Image& image, const std::string& path);
 void write_png(const Image& image, const std::string& path, float exposure_stops = 0.0f);
 // Reads an EXR's RGB channels. Throws std::runtime_error naming the file on failure.
 Image read_exr(const std::string& path);
-// Checks the EXR header's attributes that Debian's tinyexr (1.0.1) asserts on instead of
-// reporting: a "type" other than a scanline or tiled image, one that contradicts the "tiles"
-// attribute, a "tiles" attribute of the wrong size, more than 1024 attributes; and the data
-// windows it sizes in overflowing int arithmetic, or that claim more pixels (over 4096 per
-// byte) than the file can encode, which it would allocate before reading them. Throws an
-// InputError naming the file and the attribute; leaves every other fault to tinyexr's own
-// errors. Call it before any tinyexr function that parses the file's header.
+// Checks what Debian's tinyexr (1.0.1) would abort on, allocate without bound for, or misread,
+// instead of reporting an error: a tiled, deep or multi-part file (the suite reads single-part
+// scanline EXR files), a "type" other than a scanline image, a data window whose size overflows int
+// arithmetic or claims more pixels (over 4096 per byte) than the file can encode, a "chunkCount"
+// that is not the data window's, more than 1024 attributes. Throws an InputError naming the file
+// and the attribute; leaves every other fault to tinyexr's own errors. Call it before any tinyexr
+// function that parses the file's header.
 void check_exr_header(const std::string& path);
 // Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
 Image read_image(const std::string& path);

@@ -60,7 +60,7 @@ void Scene::add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>
     }
     positions_.insert(positions_.end(), positions.begin(), positions.end());
     // Room for exactly the first mesh's triangles (growing one at a time would leave up to half
-    // the array unused: 6.4 bytes per triangle of the 10M mesh), geometrically for later ones.
+    // the array unused: 10.8 bytes per triangle of the 10M mesh), geometrically for later ones.
     const size_t needed = triangles_.size() + triangles.size();
     if (needed > triangles_.capacity())
         triangles_.reserve(std::max(needed, 2 * triangles_.capacity()));
