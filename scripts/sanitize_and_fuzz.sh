@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Reliability checks beyond the test suite: build everything with clang under AddressSanitizer
-# and UndefinedBehaviorSanitizer, run the quick tests there (any report fails them), then run
-# each libFuzzer target for FUZZ_SECONDS (default 60) from its checked-in seed corpus.
+# and UndefinedBehaviorSanitizer, run each libFuzzer target for FUZZ_SECONDS (default 60) from
+# its checked-in seed corpus, then the quick tests there (any report fails them).
 # A crash leaves its input as crash-* in build-sanitize/: add it to the target's corpus.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"

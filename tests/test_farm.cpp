@@ -184,18 +184,18 @@ TEST(Farm, APartIsReadBackExactly) {
 }
 
 // A lesson writes parts with ZIP: another codec is refused before tinyexr decodes (its rarer
-// decoders abort on an assert when the data is damaged).
+// decoders are less tried on damaged data).
 TEST(Farm, APartInAnotherCodecIsRefusedBeforeDecoding) {
-    Film image(4, 2);
-    for (int i = 0; i < 8; ++i) image.add_sample(i, Color(0.5f * i));
+    Film image(4, 1);  // one line: one chunk in any codec
+    for (int i = 0; i < 4; ++i) image.add_sample(i, Color(0.5f * i));
     PartHeader h;
     h.lesson = "01_ray_casting";
     h.scene = "scenes/x.toml";
     h.scene_hash = "0123456789abcdef";
     h.image_width = 4;
-    h.image_height = 2;
+    h.image_height = 1;
     h.x1 = 4;
-    h.y1 = 2;
+    h.y1 = 1;
     h.sample_end = h.planned_end = 1;
     h.films = {"image"};
     const std::string path =
@@ -211,7 +211,7 @@ TEST(Farm, APartInAnotherCodecIsRefusedBeforeDecoding) {
     ASSERT_NE(at, std::string::npos);
     ASSERT_EQ(bytes[at + attribute.size()], 3);  // ZIP
     EXPECT_EQ(read_part(path).films.size(), 1u);
-    bytes[at + attribute.size()] = 4;  // PIZ
+    bytes[at + attribute.size()] = 1;  // RLE
     std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
     try {
         read_part(path);

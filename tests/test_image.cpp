@@ -153,6 +153,11 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
     cases.push_back({with_window(0, 0, 1 << 24, 1), "dataWindow"});        // too wide
     cases.push_back({with_window(0, 0, 999'999, 999'999), "dataWindow"});  // 10^12 pixels
     cases.push_back({with_window(0, 0, -1, 1), "dataWindow"});             // empty
+    // Two line offsets to one chunk: tinyexr would leave the other chunk's lines unwritten.
+    ASSERT_GE(chunks, 2u);
+    std::string twice = bytes;
+    std::memcpy(twice.data() + table + 8, bytes.data() + table, 8);
+    cases.push_back({twice, ""});
     for (const auto& [file, field] : cases) {
         write_bytes(path, file);
         EXPECT_EQ(error_field([&] { read_exr(path); }), field) << field;

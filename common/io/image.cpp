@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -190,13 +191,18 @@ void check_exr_header(const std::string& path) {
                                    " pixels, more than a file of " + std::to_string(file_size) +
                                    " bytes can encode (damaged?)");
     };
-    int64_t lines = 0;   // the last data window's
-    int32_t chunks = 0;  // the last chunk count
-    int codec = 0;       // the last compression
+    std::optional<std::array<int32_t, 4>> window;  // the last data window
+    int32_t chunks = 0;                            // the last chunk count
+    int codec = 0;                                 // the last compression
+    int64_t channel_count = 0, pixel_bytes = 0;    // the last channel list's
+    std::streamoff header_end = 0;                 // where the final NUL is
     for (int count = 0;; ++count) {
         const int first = in.peek();
         if (first == EOF) return;  // (tinyexr: no end of header)
-        if (first == 0) break;     // the end of the header
+        if (first == 0) {          // the end of the header
+            header_end = in.tellg();
+            break;
+        }
         // (tinyexr reads at most 1024 attributes; stopping here keeps both on the same ones)
         if (count == 1024) fail("", "more than 1024 header attributes (damaged?)");
         std::string name, type_name;
@@ -221,24 +227,94 @@ void check_exr_header(const std::string& path) {
             for (int32_t& x : v)
                 if (!read_int(x)) return;
             check_window(v);
-            lines = int64_t{v[3]} - v[1] + 1;
+            window = v;
         } else if (name == "chunkCount" && size >= 4) {
             if (!read_int(chunks)) return;
         } else if (name == "compression") {
-            codec = in.get();
+            codec = size > 0 ? in.get() : 0;
+            if (codec > 4) return;  // (tinyexr's parse stops: no codec it reads)
+        } else if (name == "channels") {
+            // Each channel: its name, NUL, then 16 bytes (pixel type, linear flag, reserved,
+            // sampling); a NUL ends the list. Counted generously: at least tinyexr's count.
+            channel_count = 0;
+            pixel_bytes = 0;
+            std::string channel;
+            while (in.tellg() - here < static_cast<std::streamoff>(size) && in.peek() > 0) {
+                if (!read_name(channel, 0)) return;
+                int32_t type = 0;
+                if (!read_int(type)) return;
+                ++channel_count;
+                pixel_bytes += type == 1 ? 2 : 4;  // half, else uint or float
+                in.seekg(12, std::ios::cur);
+            }
         }
+        in.clear();
         in.seekg(here + static_cast<std::streamoff>(size));
     }
+    if (!window) return;  // (tinyexr names the missing window)
+    const int64_t width = int64_t{(*window)[2]} - (*window)[0] + 1;
+    const int64_t lines = int64_t{(*window)[3]} - (*window)[1] + 1;
+    // tinyexr allocates every channel of the image, and a chunk's worth of each, before decoding:
+    // samples per byte of the file are bounded as pixels are (a constant image in ZIP half
+    // floats takes 470 samples per byte).
+    if (width * lines * std::max(channel_count, int64_t{1}) > 4096 * int64_t{file_size})
+        fail("channels", std::to_string(channel_count) + " channels of " +
+                             std::to_string(width * lines) + " pixels are more than a file of " +
+                             std::to_string(file_size) + " bytes can encode (damaged?)");
     // tinyexr takes a positive chunk count as the number of line offsets, allocated before they
     // are read, and reads a wrong image when it is not the data window's: it must be that.
-    if (chunks > 0) {
-        const int64_t per_chunk = codec == 3 ? 16 : codec == 4 ? 32 : 1;  // ZIP, PIZ, the others
-        const int64_t expected = (lines + per_chunk - 1) / per_chunk;
-        if (chunks != expected)
-            fail("chunkCount", "is " + std::to_string(chunks) + ", but the data window's " +
-                                   std::to_string(lines) + " lines make " +
-                                   std::to_string(expected) + " chunks in codec " +
-                                   std::to_string(codec));
+    const int64_t per_chunk = codec == 3 ? 16 : codec == 4 ? 32 : 1;  // ZIP, PIZ, the others
+    const int64_t expected = (lines + per_chunk - 1) / per_chunk;
+    if (chunks > 0 && chunks != expected)
+        fail("chunkCount", "is " + std::to_string(chunks) + ", but the data window's " +
+                               std::to_string(lines) + " lines make " + std::to_string(expected) +
+                               " chunks in codec " + std::to_string(codec));
+    // The line offsets: tinyexr decodes each chunk where its offset points, at the line the chunk
+    // names, and never checks that every line was written: two offsets to one chunk, or a damaged
+    // line number, leave lines of uninitialised memory in the image, without an error. Chunk k
+    // must lie in the file and hold the lines from min y + k * lines per chunk.
+    const auto damaged = [&](int64_t k, const std::string& why) {
+        fail("", "line chunk " + std::to_string(k) + " of " + std::to_string(expected) + " " + why +
+                     " (damaged or truncated?)");
+    };
+    in.clear();
+    in.seekg(header_end);
+    const std::streamoff table = header_end + 1;  // after the header's final NUL
+    if (table + 8 * expected > file_size) damaged(0, "has no offset in the file");
+    for (int64_t k = 0; k < expected; ++k) {
+        in.clear();
+        in.seekg(table + 8 * k);
+        unsigned char b[8];
+        in.read(reinterpret_cast<char*>(b), 8);
+        uint64_t offset = 0;
+        for (int i = 7; i >= 0; --i) offset = offset << 8 | b[i];
+        if (offset < static_cast<uint64_t>(table + 8 * expected) ||
+            offset > static_cast<uint64_t>(file_size) - 8)
+            damaged(k, "has an offset outside the file's chunks");
+        in.seekg(static_cast<std::streamoff>(offset));
+        int32_t y = 0, data_size = 0;
+        if (!read_int(y) || !read_int(data_size)) damaged(k, "is cut short");
+        if (int64_t{y} != (*window)[1] + k * per_chunk)
+            damaged(k, "names line " + std::to_string(y) + ", not " +
+                           std::to_string((*window)[1] + k * per_chunk));
+        const int64_t data_end = static_cast<int64_t>(offset) + 8 + int64_t{data_size};
+        if (data_size < 0 || data_end > file_size) damaged(k, "runs past the end of the file");
+        // PIZ: tinyexr copies the chunk's bitmap and reads its Huffman header (20 bytes) without
+        // checking them against the chunk's size. (A chunk as large as its raw pixels is stored
+        // raw.)
+        const int64_t chunk_lines = std::min(per_chunk, lines - k * per_chunk);
+        if (codec == 4 && data_size < width * chunk_lines * pixel_bytes) {
+            if (data_size < 4) damaged(k, "is too short for PIZ");
+            unsigned char head[4];
+            in.read(reinterpret_cast<char*>(head), 4);
+            const int lo = head[0] | head[1] << 8, hi = head[2] | head[3] << 8;
+            const int64_t bitmap = lo <= hi ? hi - lo + 1 : 0;
+            int32_t length = 0;
+            if (4 + bitmap + 4 > data_size) damaged(k, "is too short for its PIZ bitmap");
+            in.seekg(bitmap, std::ios::cur);
+            if (!read_int(length) || length < 20 || 4 + bitmap + 4 + int64_t{length} > data_size)
+                damaged(k, "is too short for its PIZ Huffman data");
+        }
     }
 }
 
