@@ -130,7 +130,8 @@ Image read_image(const std::string& path) {
 
 // Reads the header's attributes with the rules of tinyexr's own parser (a name and a type, each
 // ending in a NUL byte, a 4-byte little-endian size, the value; an empty name ends the header),
-// so that it sees every attribute tinyexr would, and stops where tinyexr's parse would fail.
+// so that it sees every attribute tinyexr would, and stops where tinyexr's parse fails on the
+// file's structure or on a codec it does not read (it also fails on a bad channel list, later).
 // tinyexr converts (and asserts on) what it read even when its parse fails part way, so every
 // attribute up to the stop is checked, not only the last of a name.
 void check_exr_header(const std::string& path) {
@@ -215,7 +216,8 @@ void check_exr_header(const std::string& path) {
         if (static_cast<std::streamoff>(size) > file_size - here) return;
         if (name == "type" && size > 0) {
             // tinyexr keeps the value up to its first NUL byte (an empty value is no type), and
-            // asserts on any value but the four it knows, and on a tiled or deep one here.
+            // asserts on any value but the four it knows, and on a tiled one in a scanline file
+            // (a deep one it does not read either).
             std::string value(std::min<uint32_t>(size, 64), '\0');
             in.read(value.data(), static_cast<std::streamsize>(value.size()));
             value.resize(std::strlen(value.c_str()));

@@ -33,10 +33,12 @@ Image read_exr(const std::string& path);
 // Checks what Debian's tinyexr (1.0.1) would abort on, allocate without bound for, or misread,
 // instead of reporting an error: a tiled, deep or multi-part file (the suite reads single-part
 // scanline EXR files), a "type" other than a scanline image, a data window whose size overflows int
-// arithmetic or claims more pixels (over 4096 per byte) than the file can encode, a "chunkCount"
-// that is not the data window's, more than 1024 attributes. Throws an InputError naming the file
-// and the attribute; leaves every other fault to tinyexr's own errors. Call it before any tinyexr
-// function that parses the file's header.
+// arithmetic or whose pixels, or channel samples, exceed 4096 per byte of the file, a "chunkCount"
+// that is not the data window's, a line-offset table whose chunks do not each lie in the file
+// holding their own lines in order, PIZ chunks too short for their bitmap and Huffman header, more
+// than 1024 attributes. Throws an InputError naming the file (and the attribute); leaves every
+// other fault to tinyexr's own errors. Call it before any tinyexr function that parses the file's
+// header.
 void check_exr_header(const std::string& path);
 // Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
 Image read_image(const std::string& path);
