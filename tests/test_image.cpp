@@ -153,6 +153,9 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
     cases.push_back({with_window(0, 0, 1 << 24, 1), "dataWindow"});        // too wide
     cases.push_back({with_window(0, 0, 999'999, 999'999), "dataWindow"});  // 10^12 pixels
     cases.push_back({with_window(0, 0, -1, 1), "dataWindow"});             // empty
+    // Pixels within the bound, but their three channels' samples over it.
+    const auto wide = static_cast<int32_t>(2048 * bytes.size());
+    cases.push_back({with_window(0, 0, wide - 1, 0), "channels"});
     // Two line offsets to one chunk: tinyexr would leave the other chunk's lines unwritten.
     ASSERT_GE(chunks, 2u);
     std::string twice = bytes;
