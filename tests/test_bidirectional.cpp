@@ -232,3 +232,71 @@ TEST(Bidirectional, LightSubpathsLowerTheVarianceUnderTheCeilingOfTheRtiowBox) {
         }
     EXPECT_LT(v5, 0.5 * v4) << "variance of the ceiling's pixels: " << v5 << " against " << v4;
 }
+
+TEST(Bidirectional, ALampSeenDirectlyIsTheCamerasInsideItsImageAndSharedAtItsOutline) {
+    // A one-sided lamp of radiance 2 facing the camera, nothing else: all light is one segment
+    // long, and a pixel's expected value is 2 times the share of the pixel the lamp's image
+    // covers (an axis-aligned rectangle on the film, the lamp being parallel to it). Inside the
+    // image, the camera's rays take the whole weight (mis.h): exactly 2, no variance, nothing
+    // from light tracing. At the outline the power heuristic shares the light with light
+    // tracing, and each pixel agrees with its closed form (z-tests, Sidak-corrected).
+    const Scene scene = build_scene(parse_scene_string(R"([image]
+width = 24
+height = 24
+[camera]
+position = [0, 0, -5]
+look_at = [0, 0, 0]
+fov = 40
+[materials.lamp]
+type = "diffuse"
+albedo = [0, 0, 0]
+emission = [2, 2, 2]
+[[shapes]]
+type = "quad"
+material = "lamp"  # emits along edge_u x edge_v = -z, towards the camera
+corner = [-1.13, -0.71, 0]
+edge_u = [0, 1.37, 0]
+edge_v = [1.91, 0, 0]
+)",
+                                                       "lamp.toml"));
+    BidirOptions options;
+    options.strategy_layers = 1;  // s0_t2 (camera rays), s1_t1 (light tracing), longer paths
+    const RenderResult r = render_lesson5(scene, options, 256, 51);
+    ASSERT_EQ(r.layers.size(), 3u);
+    const Camera& camera = scene.camera;
+    auto film = [&](const Vec3& p) {
+        return *camera.raster_position(glm::normalize(p - camera.position()), 24, 24);
+    };
+    const Vec2 a = film(Vec3(-1.13f, -0.71f, 0.0f)), b = film(Vec3(0.78f, 0.66f, 0.0f));
+    const float x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x);
+    const float y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
+    int inside = 0, outline = 0;
+    double traced_at_outline = 0.0;
+    std::vector<std::pair<double, double>> outline_z;  // (value - expected, variance)
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 24; ++x) {
+            const size_t i = static_cast<size_t>(y) * 24 + x;
+            const double covered = std::max(0.0f, std::min(x + 1.0f, x1) - std::max(x + 0.0f, x0)) *
+                                   std::max(0.0f, std::min(y + 1.0f, y1) - std::max(y + 0.0f, y0));
+            const float value = r.image.pixels[i].x;
+            if (x > x0 + 1e-3f && x + 1 < x1 - 1e-3f && y > y0 + 1e-3f && y + 1 < y1 - 1e-3f) {
+                ++inside;
+                EXPECT_EQ(value, 2.0f) << x << ", " << y;
+                EXPECT_EQ(r.layers[1].pixels[i].x, 0.0f) << x << ", " << y;
+                EXPECT_LE(r.variance.pixels[i].x, 1e-12f) << x << ", " << y;
+            } else if (covered > 0.0) {
+                ++outline;
+                traced_at_outline += r.layers[1].pixels[i].x;
+                outline_z.push_back({value - 2.0 * covered, r.variance.pixels[i].x});
+            } else {
+                EXPECT_EQ(value, 0.0f) << x << ", " << y;
+            }
+        }
+    EXPECT_GE(inside, 50);
+    EXPECT_GE(outline, 30);
+    EXPECT_GT(traced_at_outline, 0.0);  // light tracing keeps its share of the outline
+    const double z_max = test::z_quantile(test::sidak(0.01, outline));
+    for (const auto& [difference, variance] : outline_z)
+        EXPECT_LT(std::fabs(difference) / std::sqrt(std::max(variance, 1e-14)), z_max)
+            << difference << " (standard error " << std::sqrt(variance) << ")";
+}

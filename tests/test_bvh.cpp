@@ -100,6 +100,19 @@ TEST_P(BvhAgainstBruteForce, ClosestAndAnyHitAreExactlyTheBruteForceAnswers) {
             // the distance may not.)
         }
         ASSERT_EQ(scene.occluded(ray), expected.has_value()) << "ray " << i;
+        // Scene::meets, one primitive without the BVH: the one hit is met, and some primitive is
+        // met exactly when the segment is blocked.
+        if (got) ASSERT_TRUE(scene.meets(got->prim, ray)) << "ray " << i;
+        if (i % 50 == 0) {
+            bool met = false;
+            for (uint32_t k = 0; k < scene.spheres().size(); ++k)
+                met |= scene.meets(PrimRef(ShapeKind::Sphere, k), ray);
+            for (uint32_t k = 0; k < scene.quads().size(); ++k)
+                met |= scene.meets(PrimRef(ShapeKind::Quad, k), ray);
+            for (uint32_t k = 0; k < scene.triangles().size(); ++k)
+                met |= scene.meets(PrimRef(ShapeKind::Triangle, k), ray);
+            ASSERT_EQ(met, expected.has_value()) << "ray " << i;
+        }
     }
     EXPECT_GT(hits, 1000);  // the test exercised hits, not only misses
 }

@@ -109,6 +109,9 @@ StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
     if (s == 0) {
         out.L = camera_path_found_light(b, camera[t - 1]);
     } else if (t == 1) {
+        // The lamp seen directly, in a pixel its image covers: the camera's alone (mis.h), so
+        // its weight here is 0 and the shadow ray to the camera is not worth tracing.
+        if (weighted && s == 1 && pixel_inside_lamp(b, light[0])) return out;
         out.L = camera_sees(b, light[s - 1], out.pixel);
         sampled.type = VertexType::Camera;
         sampled.p = b.camera.position();

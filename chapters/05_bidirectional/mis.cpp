@@ -1,6 +1,7 @@
 // Lesson 5, section 3: the MIS weights of the strategies (see mis.h).
 #include "mis.h"
 
+#include <cmath>
 #include <vector>
 
 namespace lessons {
@@ -60,6 +61,24 @@ void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) 
 
 }  // namespace
 
+bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
+    std::optional<PrimRef> prim = on_light.emitter;
+    if (on_light.type == VertexType::Surface) prim = on_light.si.prim;
+    if (!prim || on_light.infinite || on_light.point_light) return false;
+    const Vec3 to_light = on_light.p - b.camera.position();
+    const float d2 = glm::dot(to_light, to_light);
+    if (!(d2 > 0.0f)) return false;
+    const std::optional<Vec2> raster =
+        b.camera.raster_position(to_light / std::sqrt(d2), b.width, b.height);
+    if (!raster) return false;
+    const float x = std::floor(raster->x), y = std::floor(raster->y);
+    for (const Vec2 corner : {Vec2(x, y), Vec2(x + 1.0f, y), Vec2(x, y + 1.0f),
+                              Vec2(x + 1.0f, y + 1.0f)})
+        if (!b.scene.meets(*prim, b.camera.generate_ray(corner.x, corner.y, b.width, b.height)))
+            return false;
+    return true;
+}
+
 float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
                  std::span<const Vertex> camera, int t, const Vertex* light_sample,
                  const Vertex* camera_end) {
@@ -70,6 +89,9 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
         const int j = n - 1 - i;
         return (t == 1 && camera_end) ? *camera_end : camera[j];
     };
+    // A lamp seen directly, inside its image: the camera's alone (pixel_inside_lamp, mis.h).
+    if (n == 2 && pixel_inside_lamp(b, x(0))) return s == 0 ? 1.0f : 0.0f;
+
     thread_local std::vector<VertexDensities> d;
     d.assign(n, {});
     for (int i = 0; i < n; ++i) {

@@ -320,6 +320,20 @@ std::optional<Hit> Scene::intersect(const Ray& ray) const {
     return Hit{best, prims_[best_k]};
 }
 
+bool Scene::meets(PrimRef prim, const Ray& ray) const {
+    ShapeHit hit;
+    switch (prim.kind()) {
+        case ShapeKind::Sphere: return intersect_sphere(spheres_[prim.index()], ray, hit);
+        case ShapeKind::Quad: return intersect_quad(quads_[prim.index()], ray, hit);
+        case ShapeKind::Triangle: {
+            const Triangle& tri = triangles_[prim.index()];
+            return intersect_triangle(WatertightRay(ray), positions_[tri.v[0]],
+                                      positions_[tri.v[1]], positions_[tri.v[2]], ray.t_max, hit);
+        }
+    }
+    return false;
+}
+
 bool Scene::occluded(const Ray& ray, std::optional<PrimRef> target) const {
     ++t_rays_traced;
     const RayTests tests = ray_tests(ray);
