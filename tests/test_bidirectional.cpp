@@ -14,8 +14,9 @@ using test::image_mean;
 namespace {
 
 // z-tests in this file: point-light caustic 2, furnace 3 + 3, strategies 9, light tracing 1,
-// pixel-by-pixel image means 6.
-const double kSignificance = test::sidak(0.01, 24);
+// pixel-by-pixel image means 6, a lamp seen directly 6 (its outline's pixels: a family of their
+// own).
+const double kSignificance = test::sidak(0.01, 30);
 
 RenderResult render_lesson5(const Scene& scene, const BidirOptions& options, int spp, uint64_t seed,
                             int threads = 0) {
@@ -47,7 +48,8 @@ double z_score(double a, double var_a, double b, double var_b = 0.0) {
 
 TEST(Bidirectional, FurnaceIsLeOverOneMinusRhoWithAndWithoutADepthLimit) {
     // Every strategy meets here: every vertex is on the emitter, light subpaths start all over
-    // the sphere, and the camera sees the inside directly. L = L_e / (1 - rho); with at most k
+    // the sphere, and the camera sees the inside directly (paths of one segment go to the camera
+    // alone there: every pixel lies inside the emitter's image, mis.h). L = L_e / (1 - rho); with at most k
     // segments, L_e (1 - rho^k) / (1 - rho).
     for (float rho : {0.5f, 0.8f}) {
         for (int k : {0, 1, 3}) {
@@ -233,14 +235,13 @@ TEST(Bidirectional, LightSubpathsLowerTheVarianceUnderTheCeilingOfTheRtiowBox) {
     EXPECT_LT(v5, 0.5 * v4) << "variance of the ceiling's pixels: " << v5 << " against " << v4;
 }
 
-TEST(Bidirectional, ALampSeenDirectlyIsTheCamerasInsideItsImageAndSharedAtItsOutline) {
-    // A one-sided lamp of radiance 2 facing the camera, nothing else: all light is one segment
-    // long, and a pixel's expected value is 2 times the share of the pixel the lamp's image
-    // covers (an axis-aligned rectangle on the film, the lamp being parallel to it). Inside the
-    // image, the camera's rays take the whole weight (mis.h): exactly 2, no variance, nothing
-    // from light tracing. At the outline the power heuristic shares the light with light
-    // tracing, and each pixel agrees with its closed form (z-tests, Sidak-corrected).
-    const Scene scene = build_scene(parse_scene_string(R"([image]
+namespace {
+
+// A one-sided lamp of radiance 2 facing the camera, alone: all light is one segment long, and
+// the lamp is parallel to the film, so its image there is the film positions of its corners
+// joined by straight lines. `shape` is the lamp's [[shapes]] entry.
+Scene lamp_facing_the_camera(const std::string& shape) {
+    return build_scene(parse_scene_string(R"([image]
 width = 24
 height = 24
 [camera]
@@ -252,51 +253,121 @@ type = "diffuse"
 albedo = [0, 0, 0]
 emission = [2, 2, 2]
 [[shapes]]
-type = "quad"
-material = "lamp"  # emits along edge_u x edge_v = -z, towards the camera
-corner = [-1.13, -0.71, 0]
-edge_u = [0, 1.37, 0]
-edge_v = [1.91, 0, 0]
-)",
-                                                       "lamp.toml"));
-    BidirOptions options;
-    options.strategy_layers = 1;  // s0_t2 (camera rays), s1_t1 (light tracing), longer paths
-    const RenderResult r = render_lesson5(scene, options, 256, 51);
-    ASSERT_EQ(r.layers.size(), 3u);
-    const Camera& camera = scene.camera;
-    auto film = [&](const Vec3& p) {
-        return *camera.raster_position(glm::normalize(p - camera.position()), 24, 24);
+material = "lamp"
+)" + shape,
+                                          "lamp.toml"));
+}
+
+// The mean of a layer over the image, with its variance, against `expected`: a z-score.
+double layer_z(const Image& layer, const Image& variance, double expected) {
+    const auto [mean, var] = image_mean(layer, variance);
+    return std::fabs(mean - expected) / std::sqrt(std::max(var, 1e-14));
+}
+
+}  // namespace
+
+TEST(Bidirectional, ALampSeenDirectlyIsTheCamerasInsideItsImageAndSharedAtItsOutline) {
+    // A pixel's expected value is 2 times the share of it that the lamp's image covers. Inside
+    // the image the camera's rays take the whole weight (mis.h): exactly 2, no variance, nothing
+    // from light tracing (checked one pixel in from the outline, so that a camera ray whose hit
+    // rounds into the next pixel still finds the camera's weight there). At the outline the power
+    // heuristic shares the light with light tracing: each pixel of a quad lamp against its closed
+    // form (z-tests, Sidak-corrected), and the whole image, for a quad and a triangle. Unweighted,
+    // light tracing alone and camera rays alone each still estimate all of the lamp's light.
+    struct Case {
+        const char* name;
+        std::string shape;
+        std::vector<Vec3> corners;  // the lamp's outline, in order
     };
-    const Vec2 a = film(Vec3(-1.13f, -0.71f, 0.0f)), b = film(Vec3(0.78f, 0.66f, 0.0f));
-    const float x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x);
-    const float y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
-    int inside = 0, outline = 0;
-    double traced_at_outline = 0.0;
-    std::vector<std::pair<double, double>> outline_z;  // (value - expected, variance)
-    for (int y = 0; y < 24; ++y)
-        for (int x = 0; x < 24; ++x) {
-            const size_t i = static_cast<size_t>(y) * 24 + x;
-            const double covered = std::max(0.0f, std::min(x + 1.0f, x1) - std::max(x + 0.0f, x0)) *
-                                   std::max(0.0f, std::min(y + 1.0f, y1) - std::max(y + 0.0f, y0));
-            const float value = r.image.pixels[i].x;
-            if (x > x0 + 1e-3f && x + 1 < x1 - 1e-3f && y > y0 + 1e-3f && y + 1 < y1 - 1e-3f) {
-                ++inside;
-                EXPECT_EQ(value, 2.0f) << x << ", " << y;
-                EXPECT_EQ(r.layers[1].pixels[i].x, 0.0f) << x << ", " << y;
-                EXPECT_LE(r.variance.pixels[i].x, 1e-12f) << x << ", " << y;
-            } else if (covered > 0.0) {
-                ++outline;
-                traced_at_outline += r.layers[1].pixels[i].x;
-                outline_z.push_back({value - 2.0 * covered, r.variance.pixels[i].x});
-            } else {
-                EXPECT_EQ(value, 0.0f) << x << ", " << y;
+    const Case cases[] = {
+        {"quad",
+         "type = \"quad\"  # emits along edge_u x edge_v = -z, towards the camera\n"
+         "corner = [-1.13, -0.71, 0]\nedge_u = [0, 1.37, 0]\nedge_v = [1.91, 0, 0]\n",
+         {{-1.13f, -0.71f, 0.0f}, {-1.13f, 0.66f, 0.0f}, {0.78f, 0.66f, 0.0f}, {0.78f, -0.71f, 0.0f}}},
+        {"triangle",
+         "type = \"mesh\"\nvertices = [[-1.37, -0.93, 0], [0.11, 1.23, 0], [1.29, -0.61, 0]]\n"
+         "faces = [[0, 1, 2]]  # normal (v1 - v0) x (v2 - v0) along -z, towards the camera\n",
+         {{-1.37f, -0.93f, 0.0f}, {0.11f, 1.23f, 0.0f}, {1.29f, -0.61f, 0.0f}}}};
+    for (const Case& c : cases) {
+        const Scene scene = lamp_facing_the_camera(c.shape);
+        std::vector<Vec2> film;  // the image's outline, in pixels
+        for (const Vec3& p : c.corners)
+            film.push_back(
+                *scene.camera.raster_position(glm::normalize(p - scene.camera.position()), 24, 24));
+        // Inside the convex outline: on the inner side of every edge (either winding).
+        auto inside = [&](float x, float y) {
+            int positive = 0, negative = 0;
+            for (size_t i = 0; i < film.size(); ++i) {
+                const Vec2 a = film[i], b = film[(i + 1) % film.size()];
+                const float side = (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
+                positive += side > 1e-3f;
+                negative += side < -1e-3f;
             }
+            return positive == static_cast<int>(film.size()) ||
+                   negative == static_cast<int>(film.size());
+        };
+        double film_area = 0.0;  // in pixels (shoelace)
+        for (size_t i = 0; i < film.size(); ++i) {
+            const Vec2 a = film[i], b = film[(i + 1) % film.size()];
+            film_area += 0.5 * (static_cast<double>(a.x) * b.y - static_cast<double>(b.x) * a.y);
         }
-    EXPECT_GE(inside, 50);
-    EXPECT_GE(outline, 30);
-    EXPECT_GT(traced_at_outline, 0.0);  // light tracing keeps its share of the outline
-    const double z_max = test::z_quantile(test::sidak(0.01, outline));
-    for (const auto& [difference, variance] : outline_z)
-        EXPECT_LT(std::fabs(difference) / std::sqrt(std::max(variance, 1e-14)), z_max)
-            << difference << " (standard error " << std::sqrt(variance) << ")";
+        const double expected_mean = 2.0 * std::fabs(film_area) / (24.0 * 24.0);
+
+        BidirOptions weighted, unweighted;
+        weighted.strategy_layers = unweighted.strategy_layers = 1;  // (0, 2), (1, 1), longer
+        unweighted.unweighted_layers = true;
+        const RenderResult w = render_lesson5(scene, weighted, 256, 51);
+        const RenderResult u = render_lesson5(scene, unweighted, 256, 52);
+        ASSERT_EQ(w.layers.size(), 3u);
+        int deep_inside = 0;
+        double traced_elsewhere = 0.0;
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 24; ++x) {
+                bool deep = true;  // the pixel and its eight neighbours inside the image
+                for (int j = -1; j <= 2; ++j)
+                    for (int i = -1; i <= 2; ++i) deep = deep && inside(x + i, y + j);
+                const size_t k = static_cast<size_t>(y) * 24 + x;
+                if (deep) {
+                    ++deep_inside;
+                    EXPECT_EQ(w.image.pixels[k].x, 2.0f) << c.name << " " << x << ", " << y;
+                    EXPECT_EQ(w.layers[1].pixels[k].x, 0.0f) << c.name << " " << x << ", " << y;
+                    EXPECT_EQ(w.variance.pixels[k].x, 0.0f) << c.name << " " << x << ", " << y;
+                    EXPECT_GT(u.layers[1].pixels[k].x, 0.0f) << c.name << " " << x << ", " << y;
+                } else {
+                    traced_elsewhere += w.layers[1].pixels[k].x;
+                }
+            }
+        EXPECT_GE(deep_inside, 20) << c.name;
+        EXPECT_GT(traced_elsewhere, 0.0) << c.name;  // light tracing keeps a share of the outline
+        const double z_max = test::z_quantile(kSignificance);
+        EXPECT_LT(layer_z(w.image, w.variance, expected_mean), z_max) << c.name;
+        EXPECT_LT(layer_z(u.layers[0], u.layer_variances[0], expected_mean), z_max)
+            << c.name << ": camera rays alone";
+        EXPECT_LT(layer_z(u.layers[1], u.layer_variances[1], expected_mean), z_max)
+            << c.name << ": light tracing alone";
+
+        if (std::string(c.name) != "quad") continue;
+        // Pixel by pixel where the quad's outline crosses: its image is a rectangle on the film.
+        const float x0 = std::min(film[0].x, film[2].x), x1 = std::max(film[0].x, film[2].x);
+        const float y0 = std::min(film[0].y, film[2].y), y1 = std::max(film[0].y, film[2].y);
+        std::vector<std::pair<double, double>> outline;  // (value - closed form, variance)
+        for (int y = 0; y < 24; ++y)
+            for (int x = 0; x < 24; ++x) {
+                const double covered =
+                    std::max(0.0f, std::min(x + 1.0f, x1) - std::max(x + 0.0f, x0)) *
+                    std::max(0.0f, std::min(y + 1.0f, y1) - std::max(y + 0.0f, y0));
+                const size_t k = static_cast<size_t>(y) * 24 + x;
+                if (covered > 0.0 && covered < 1.0)
+                    outline.push_back(
+                        {w.image.pixels[k].x - 2.0 * covered, w.variance.pixels[k].x});
+                else
+                    EXPECT_NEAR(w.image.pixels[k].x, 2.0 * covered, covered > 0.0 ? 0.1 : 0.0)
+                        << x << ", " << y;  // wholly covered or not at all
+            }
+        EXPECT_GE(outline.size(), 30u);
+        const double z_pixel = test::z_quantile(test::sidak(0.01, static_cast<int>(outline.size())));
+        for (const auto& [difference, variance] : outline)
+            EXPECT_LT(std::fabs(difference) / std::sqrt(std::max(variance, 1e-14)), z_pixel)
+                << difference << " (standard error " << std::sqrt(variance) << ")";
+    }
 }

@@ -102,7 +102,9 @@ TEST_P(BvhAgainstBruteForce, ClosestAndAnyHitAreExactlyTheBruteForceAnswers) {
         ASSERT_EQ(scene.occluded(ray), expected.has_value()) << "ray " << i;
         // Scene::meets, one primitive without the BVH: the one hit is met, and some primitive is
         // met exactly when the segment is blocked.
-        if (got) ASSERT_TRUE(scene.meets(got->prim, ray)) << "ray " << i;
+        if (got) {
+            ASSERT_TRUE(scene.meets(got->prim, ray)) << "ray " << i;
+        }
         if (i % 50 == 0) {
             bool met = false;
             for (uint32_t k = 0; k < scene.spheres().size(); ++k)

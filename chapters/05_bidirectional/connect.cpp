@@ -74,9 +74,8 @@ Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixe
     const Color L = y.beta * f * (cos_y / d2 * b.camera.importance(w));
     if (is_black(L) || b.scene.occluded(spawn_ray_to(y.surface_point(), b.camera.position())))
         return Color(0.0f);
-    const int px = std::min(static_cast<int>(raster->x), b.width - 1);
-    const int py = std::min(static_cast<int>(raster->y), b.height - 1);
-    pixel = static_cast<uint32_t>(py) * static_cast<uint32_t>(b.width) + static_cast<uint32_t>(px);
+    const glm::ivec2 px = pixel_at(b, *raster);
+    pixel = static_cast<uint32_t>(px.y) * static_cast<uint32_t>(b.width) + static_cast<uint32_t>(px.x);
     return L;
 }
 
@@ -109,9 +108,6 @@ StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
     if (s == 0) {
         out.L = camera_path_found_light(b, camera[t - 1]);
     } else if (t == 1) {
-        // The lamp seen directly, in a pixel its image covers: the camera's alone (mis.h), so
-        // its weight here is 0 and the shadow ray to the camera is not worth tracing.
-        if (weighted && s == 1 && pixel_inside_lamp(b, light[0])) return out;
         out.L = camera_sees(b, light[s - 1], out.pixel);
         sampled.type = VertexType::Camera;
         sampled.p = b.camera.position();

@@ -62,8 +62,7 @@ void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) 
 }  // namespace
 
 bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
-    std::optional<PrimRef> prim = on_light.emitter;
-    if (on_light.type == VertexType::Surface) prim = on_light.si.prim;
+    const std::optional<PrimRef> prim = on_light.primitive();
     if (!prim || on_light.infinite || on_light.point_light) return false;
     const Vec3 to_light = on_light.p - b.camera.position();
     const float d2 = glm::dot(to_light, to_light);
@@ -71,7 +70,8 @@ bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
     const std::optional<Vec2> raster =
         b.camera.raster_position(to_light / std::sqrt(d2), b.width, b.height);
     if (!raster) return false;
-    const float x = std::floor(raster->x), y = std::floor(raster->y);
+    const glm::ivec2 pixel = pixel_at(b, *raster);  // the pixel light tracing splats to
+    const float x = static_cast<float>(pixel.x), y = static_cast<float>(pixel.y);
     for (const Vec2 corner : {Vec2(x, y), Vec2(x + 1.0f, y), Vec2(x, y + 1.0f),
                               Vec2(x + 1.0f, y + 1.0f)})
         if (!b.scene.meets(*prim, b.camera.generate_ray(corner.x, corner.y, b.width, b.height)))

@@ -1,6 +1,7 @@
 // Lesson 5, section 1: camera and light subpaths (see subpaths.h).
 #include "subpaths.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "rendering_equation.h"
@@ -21,15 +22,20 @@ float to_area_density(float pdf_solid_angle, const Vertex& from, const Vertex& t
     return solid_angle_to_area_pdf(pdf_solid_angle, d2, cos_to);
 }
 
+glm::ivec2 pixel_at(const Bidir& b, const Vec2& raster) {
+    return {std::min(static_cast<int>(raster.x), b.width - 1),
+            std::min(static_cast<int>(raster.y), b.height - 1)};
+}
+
 float light_origin_density(const Bidir& b, const Vertex& v) {
     if (v.infinite) return b.lights.environment_pdf(v.p);  // its direction
     if (v.type == VertexType::Light && v.point_light) return v.pdf_fwd;  // set when sampled
-    const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
+    const std::optional<PrimRef> prim = v.primitive();
     return prim ? b.lights.emission_pdf(*prim, v.n, v.n).area : 0.0f;
 }
 
 float light_sample_density(const Bidir& b, const Vertex& v, const Vertex& from) {
-    const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
+    const std::optional<PrimRef> prim = v.primitive();
     if (v.infinite || v.point_light || !prim) return light_origin_density(b, v);
     const Vec3 n = v.type == VertexType::Light || glm::dot(v.n, v.si.wo) > 0.0f ? v.n : -v.n;
     return to_area_density(b.lights.pdf(from.p, *prim, v.p, n), from, v);
@@ -42,7 +48,7 @@ float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next
     if (v.point_light) {
         pdf_dir = uniform_sphere_pdf();
     } else {
-        const std::optional<PrimRef> prim = v.type == VertexType::Light ? v.emitter : v.si.prim;
+        const std::optional<PrimRef> prim = v.primitive();
         // The emitting side: a light vertex's normal is on it; a camera vertex on an emitter saw
         // its front from the side it arrived.
         const Vec3 n = v.type == VertexType::Light || glm::dot(v.n, v.si.wo) > 0.0f ? v.n : -v.n;

@@ -51,11 +51,20 @@ struct Vertex {
     float pdf_light_sample = 0.0f;
 
     SurfacePoint surface_point() const { return {p, si.p_error, n}; }
+    // The primitive the vertex lies on: a light vertex's emitter (none for a point light or the
+    // sky), a surface vertex's hit.
+    std::optional<PrimRef> primitive() const {
+        return type == VertexType::Light ? emitter : std::optional<PrimRef>(si.prim);
+    }
     // Whether a strategy may join a segment to this vertex: not at a mirror or glass, and not at
     // the environment (its light is found by the camera path escaping, s = 0, or by a light
     // sample, s = 1).
     bool connectible() const { return !delta && !infinite; }
 };
+
+// The pixel, as column and row, that a film position (Camera::raster_position) falls in: where
+// light tracing splats, and what the lamp's weights (mis.h) ask about.
+glm::ivec2 pixel_at(const Bidir& b, const Vec2& raster);
 
 // The unit direction from vertex `from` towards `to` (towards the sky for the environment).
 Vec3 direction(const Vertex& from, const Vertex& to);

@@ -141,7 +141,7 @@ public:
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const;
     // Whether the ray meets primitive `prim` anywhere in (0, ray.t_max), on either side, whatever
     // lies in front of it: one shape test, no BVH (lesson 5 asks whether a pixel's corners all
-    // see a lamp). Not counted as a traced ray.
+    // meet a lamp). Always the robust tests (--naive does not apply); not counted as a ray.
     bool meets(PrimRef prim, const Ray& ray) const;
     // Emitted radiance L_e(p, wo) leaving the hit point towards wo.
     Color emitted(const SurfaceInteraction& si) const;
