@@ -52,9 +52,11 @@ struct Vertex {
 
     SurfacePoint surface_point() const { return {p, si.p_error, n}; }
     // The primitive the vertex lies on: a light vertex's emitter (none for a point light or the
-    // sky), a surface vertex's hit.
+    // sky), a surface vertex's hit; none for the camera.
     std::optional<PrimRef> primitive() const {
-        return type == VertexType::Light ? emitter : std::optional<PrimRef>(si.prim);
+        if (type == VertexType::Light) return emitter;
+        if (type == VertexType::Surface) return si.prim;
+        return std::nullopt;
     }
     // Whether a strategy may join a segment to this vertex: not at a mirror or glass, and not at
     // the environment (its light is found by the camera path escaping, s = 0, or by a light
