@@ -49,8 +49,8 @@ double z_score(double a, double var_a, double b, double var_b = 0.0) {
 TEST(Bidirectional, FurnaceIsLeOverOneMinusRhoWithAndWithoutADepthLimit) {
     // Every strategy meets here: every vertex is on the emitter, light subpaths start all over
     // the sphere, and the camera sees the inside directly (paths of one segment go to the camera
-    // alone there: every pixel lies inside the emitter's image, mis.h). L = L_e / (1 - rho); with at most k
-    // segments, L_e (1 - rho^k) / (1 - rho).
+    // alone there: every pixel lies inside the emitter's image, mis.h). L = L_e / (1 - rho); with
+    // at most k segments, L_e (1 - rho^k) / (1 - rho).
     for (float rho : {0.5f, 0.8f}) {
         for (int k : {0, 1, 3}) {
             if (rho == 0.5f && k == 3) continue;
@@ -283,7 +283,10 @@ TEST(Bidirectional, ALampSeenDirectlyIsTheCamerasInsideItsImageAndSharedAtItsOut
         {"quad",
          "type = \"quad\"  # emits along edge_u x edge_v = -z, towards the camera\n"
          "corner = [-1.13, -0.71, 0]\nedge_u = [0, 1.37, 0]\nedge_v = [1.91, 0, 0]\n",
-         {{-1.13f, -0.71f, 0.0f}, {-1.13f, 0.66f, 0.0f}, {0.78f, 0.66f, 0.0f}, {0.78f, -0.71f, 0.0f}}},
+         {{-1.13f, -0.71f, 0.0f},
+          {-1.13f, 0.66f, 0.0f},
+          {0.78f, 0.66f, 0.0f},
+          {0.78f, -0.71f, 0.0f}}},
         {"triangle",
          "type = \"mesh\"\nvertices = [[-1.37, -0.93, 0], [0.11, 1.23, 0], [1.29, -0.61, 0]]\n"
          "faces = [[0, 1, 2]]  # normal (v1 - v0) x (v2 - v0) along -z, towards the camera\n",
@@ -365,7 +368,8 @@ TEST(Bidirectional, ALampSeenDirectlyIsTheCamerasInsideItsImageAndSharedAtItsOut
                         << x << ", " << y;  // wholly covered or not at all
             }
         EXPECT_GE(outline.size(), 30u);
-        const double z_pixel = test::z_quantile(test::sidak(0.01, static_cast<int>(outline.size())));
+        const double z_pixel =
+            test::z_quantile(test::sidak(0.01, static_cast<int>(outline.size())));
         for (const auto& [difference, variance] : outline)
             EXPECT_LT(std::fabs(difference) / std::sqrt(std::max(variance, 1e-14)), z_pixel)
                 << difference << " (standard error " << std::sqrt(variance) << ")";

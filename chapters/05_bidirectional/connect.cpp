@@ -75,7 +75,8 @@ Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixe
     if (is_black(L) || b.scene.occluded(spawn_ray_to(y.surface_point(), b.camera.position())))
         return Color(0.0f);
     const glm::ivec2 px = pixel_at(b, *raster);
-    pixel = static_cast<uint32_t>(px.y) * static_cast<uint32_t>(b.width) + static_cast<uint32_t>(px.x);
+    pixel =
+        static_cast<uint32_t>(px.y) * static_cast<uint32_t>(b.width) + static_cast<uint32_t>(px.x);
     return L;
 }
 

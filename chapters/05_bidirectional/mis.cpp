@@ -72,8 +72,8 @@ bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
     if (!raster) return false;
     const glm::ivec2 pixel = pixel_at(b, *raster);  // the pixel light tracing splats to
     const float x = static_cast<float>(pixel.x), y = static_cast<float>(pixel.y);
-    for (const Vec2 corner : {Vec2(x, y), Vec2(x + 1.0f, y), Vec2(x, y + 1.0f),
-                              Vec2(x + 1.0f, y + 1.0f)})
+    for (const Vec2 corner :
+         {Vec2(x, y), Vec2(x + 1.0f, y), Vec2(x, y + 1.0f), Vec2(x + 1.0f, y + 1.0f)})
         if (!b.scene.meets(*prim, b.camera.generate_ray(corner.x, corner.y, b.width, b.height)))
             return false;
     return true;

@@ -36,11 +36,12 @@ namespace lessons {
 // while in a pixel that the lamp's image covers wholly every camera ray of the pixel meets the
 // lamp: there, unless something in front hides part of it, the camera's estimate is the lamp's
 // radiance averaged over the pixel, exact for a uniform lamp. So in such a pixel the camera
-// takes the whole weight (s = 0: 1, s = 1: 0), and
-// at the lamp's outline, where light tracing's many points do better than the pixel's few
-// rays, the power heuristic stays. Any weights that sum to one over the strategies of each path
-// keep the estimate unbiased; these depend only on the path (the pixel that x_0 projects to, and
-// the primitive it lies on), so both strategies compute the same ones.
+// takes the whole weight (s = 0: 1, s = 1: 0); at the lamp's outline, where light tracing's many
+// points do better than the pixel's few rays, the power heuristic stays. Any weights that sum to
+// one over the strategies of each path keep the estimate unbiased; these depend only on the path
+// (the pixel that x_0 projects to, and the primitive it lies on), so both strategies compute the
+// same ones.
+//
 // Whether `on_light` (x_0 of a one-segment path: a point on an emissive primitive, reached by a
 // camera ray or starting a light subpath) lies in a pixel (the one light tracing would splat it
 // to) whose four corner rays all meet that primitive: its image is convex (a quad, a triangle,
