@@ -254,6 +254,41 @@ TEST(Studio, RestartsDoNotPileUp) {
     EXPECT_EQ(studio.live_renders(), 0);
 }
 
+// The HTTP server loads starts on several threads: when the earlier of two starts for a pane
+// finishes loading last (a bigger scene, say), the later one still wins. (Before, the last to
+// finish won, and a page's first start could replace the teacher's next choice.)
+TEST(Studio, TheLastStartMadeWinsNotTheLastToFinishLoading) {
+    const std::string out = scratch("order");
+    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, small_limits(), 2);
+    const Params earlier = {{"scene", "scenes/cornell_spheres"},
+                            {"lesson", "02_whitted"},
+                            {"--width", "32"},
+                            {"--height", "24"}};
+    const Params later = {{"scene", "scenes/cornell_box"},
+                          {"lesson", "04_rendering_equation"},
+                          {"--width", "48"},
+                          {"--height", "36"}};
+    const uint64_t first = studio.arrive(), second = studio.arrive();
+    ASSERT_LT(first, second);
+    EXPECT_EQ(studio.start(0, later, second), second);
+    EXPECT_EQ(studio.start(0, earlier, first), second);  // dropped: the pane keeps the later
+    const std::string s = studio.status_json();
+    const size_t pane0 = s.find("\"panes\"");
+    ASSERT_NE(pane0, std::string::npos) << s;
+    const size_t generation = s.find("\"generation\": ", pane0);
+    ASSERT_NE(generation, std::string::npos) << s;
+    EXPECT_EQ(s.substr(generation, s.find(',', generation) - generation),
+              "\"generation\": " + std::to_string(second));
+    EXPECT_EQ(s.find("cornell_spheres"), std::string::npos) << s;
+    EXPECT_NE(s.find("\"scene\": \"scenes/cornell_box\""), std::string::npos) << s;
+    // A start made after both replaces it, as always.
+    const uint64_t third = studio.start(0, earlier);
+    EXPECT_GT(third, second);
+    EXPECT_NE(studio.status_json().find("\"scene\": \"scenes/cornell_spheres\""),
+              std::string::npos);
+    studio.shutdown();
+}
+
 // A render larger than the studio's memory budget is refused before anything is allocated.
 TEST(Studio, RendersBeyondTheMemoryBudgetAreRefused) {
     const std::string out = scratch("budget");

@@ -429,7 +429,12 @@ std::shared_ptr<PaneState> Studio::pane(int index) const {
     return panes_[index];
 }
 
-uint64_t Studio::start(int pane_index, const Params& params) {
+uint64_t Studio::arrive() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return next_generation_++;
+}
+
+uint64_t Studio::start(int pane_index, const Params& params, uint64_t generation) {
     if (pane_index < 0 || pane_index >= pane_count())
         throw RequestError("pane: " + std::to_string(pane_index) + " is not 0 .. " +
                            std::to_string(pane_count() - 1));
@@ -478,10 +483,12 @@ uint64_t Studio::start(int pane_index, const Params& params) {
         state->reference_source = found->source;
         state->reference_noise = found->noise;
     }
-    uint64_t generation;
+    state->generation = generation;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        generation = state->generation = next_generation_++;
+        // A later start for this pane loaded faster and is installed: it wins.
+        if (panes_[pane_index] && panes_[pane_index]->generation > generation)
+            return panes_[pane_index]->generation;
         if (panes_[pane_index]) panes_[pane_index]->stop = true;
         panes_[pane_index] = state;
         // A reference render that no pane waits for any more is stopped.

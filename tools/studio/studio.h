@@ -105,8 +105,17 @@ public:
     std::vector<std::string> command_line(const Params& params) const;
 
     // Validates, loads the scene, makes the model, and replaces the pane's render with it.
-    // Throws RequestError (bad parameters or scene). Returns the new render's generation.
-    uint64_t start(int pane, const Params& params);
+    // Throws RequestError (bad parameters or scene). Returns the generation of the render the
+    // pane now has.
+    // Starts take their generation when they arrive, and the HTTP server loads them on several
+    // threads at once: a start whose scene finishes loading after a later start's has been
+    // installed is dropped (it returns the later one's generation), so the last request made
+    // wins, not the last to finish loading.
+    uint64_t start(int pane, const Params& params) { return start(pane, params, arrive()); }
+    // The two halves of start, for the test that loads two starts in the opposite order:
+    // arrive() takes the next generation; start(pane, params, generation) loads and installs.
+    uint64_t arrive();
+    uint64_t start(int pane, const Params& params, uint64_t generation);
     void stop_pane(int pane);
 
     // JSON of every pane's state (and the reference's), for the page's polling.

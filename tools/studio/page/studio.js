@@ -103,15 +103,25 @@ function restart(i) {
 }
 function restartAll() { studio.panes.forEach((_, i) => restart(i)); }
 
+// One start in flight per pane: a change made while one loads is sent when it returns, with the
+// controls as they are then, so the pane ends on the last choice made (the server also drops a
+// start that finishes loading after a later one).
 async function startPane(i) {
-  const query = new URLSearchParams(paramsOf(i));
-  try {
-    await api('/api/start?' + query.toString(), { method: 'POST', body: '', headers: { 'X-Studio': '1' } });
-    studio.starts += 1;
-    showMessage('');
-  } catch (e) {
-    showMessage('Pane ' + (i + 1) + ': ' + e.message);
-  }
+  const pane = studio.panes[i];
+  if (pane.starting) { pane.again = true; return; }
+  pane.starting = true;
+  do {
+    pane.again = false;
+    const query = new URLSearchParams(paramsOf(i));
+    try {
+      await api('/api/start?' + query.toString(), { method: 'POST', body: '', headers: { 'X-Studio': '1' } });
+      studio.starts += 1;
+      showMessage('');
+    } catch (e) {
+      showMessage('Pane ' + (i + 1) + ': ' + e.message);
+    }
+  } while (pane.again);
+  pane.starting = false;
 }
 
 // ---- what the server renders ----
