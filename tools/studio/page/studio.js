@@ -110,18 +110,21 @@ async function startPane(i) {
   const pane = studio.panes[i];
   if (pane.starting) { pane.again = true; return; }
   pane.starting = true;
-  do {
-    pane.again = false;
-    const query = new URLSearchParams(paramsOf(i));
-    try {
-      await api('/api/start?' + query.toString(), { method: 'POST', body: '', headers: { 'X-Studio': '1' } });
-      studio.starts += 1;
-      showMessage('');
-    } catch (e) {
-      showMessage('Pane ' + (i + 1) + ': ' + e.message);
-    }
-  } while (pane.again);
-  pane.starting = false;
+  try {
+    do {
+      pane.again = false;
+      try {
+        const query = new URLSearchParams(paramsOf(i));
+        await api('/api/start?' + query.toString(), { method: 'POST', body: '', headers: { 'X-Studio': '1' } });
+        studio.starts += 1;
+        showMessage('');
+      } catch (e) {
+        showMessage('Pane ' + (i + 1) + ': ' + e.message);
+      }
+    } while (pane.again);
+  } finally {
+    pane.starting = false;
+  }
 }
 
 // ---- what the server renders ----
