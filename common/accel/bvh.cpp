@@ -464,12 +464,15 @@ bool no_split_beats_leaf(const BuildRef* first, const BuildRef* last, float node
     float largest = 0.0f, smallest = kInfinity;
     for (const BuildRef* r = first; r != last; ++r) {
         const float area = r->box().bounds().surface_area();
+        // A NaN coordinate makes the area NaN, which max and min would skip, while the search
+        // sees such a box as empty in that lane (Box4::expand keeps the other operand): no bound.
+        if (!(area >= 0.0f)) return false;
         largest = std::max(largest, area);
         smallest = std::min(smallest, area);
     }
     const float one = leaf_cost(1);
     const float bound = kTraversalCost + (largest * one + smallest * one) / node_area;
-    return bound >= leaf_cost(static_cast<uint32_t>(last - first));  // false for NaN (area 0)
+    return bound >= leaf_cost(static_cast<uint32_t>(last - first));  // false for NaN (A = 0)
 }
 
 // The binned surface area heuristic for a node's primitives: bins their centroids along all three
