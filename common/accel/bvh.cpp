@@ -88,9 +88,10 @@ struct BuildRef {
 // The boxes of a set of primitives and of their centroids: what a node needs to bin them.
 struct Extent {
     Box4 box, centroids;
-    void add(const BuildRef& r) {
+    void add(const BuildRef& r) { add(r, r.centroid()); }
+    void add(const BuildRef& r, const Float4& centroid) {
         box.expand(r.box());
-        centroids.expand(r.centroid());
+        centroids.expand(centroid);
     }
     void add(const Extent& e) {
         box.expand(e.box);
@@ -140,16 +141,36 @@ struct Bins {
     Box4 box[3][kBins];
     uint32_t count[3][kBins] = {};
 
-    uint32_t occupied[3] = {};  // bit b: bin b holds a primitive
-
+    // bin_of for all three axes at once, in the lanes of one vector: the same arithmetic lane by
+    // lane, and the same clamping (a NaN lane fails `b > 0` and goes to bin 0), so the same bins.
+    static Int4 bins_of(const Float4& centroid, const Float4& lo, const Float4& scale) {
+        Float4 b = (centroid - lo) * scale;
+        b = b > 0.0f ? b : Float4{};
+        b = b < static_cast<float>(kBins) ? b : Float4{} + static_cast<float>(kBins - 1);
+        return __builtin_convertvector(b, Int4);  // truncates, as static_cast<int> does
+    }
+    void add_one(const BuildRef& r, const Float4& lo, const Float4& scale) {
+        const Int4 b = bins_of(r.centroid(), lo, scale);
+        const Box4 prim = r.box();
+        for (int axis = 0; axis < 3; ++axis) {
+            box[axis][b[axis]].expand(prim);
+            ++count[axis][b[axis]];
+        }
+    }
+    // Neighbouring primitives of a mesh mostly fall in the same bins, and each update of a bin
+    // waits for the one before it; so a long run is binned into two sets of bins, alternately,
+    // and the sets merged (min, max and sums: the same result in any order). Measured on the 1M
+    // mesh with the bins computed in one vector: about 3% less build time (design item 15).
     void add(const BuildRef* first, const BuildRef* last, const Float4& lo, const Float4& scale) {
-        for (const BuildRef* r = first; r != last; ++r)
-            for (int axis = 0; axis < 3; ++axis) {
-                const int b = bin_of(r->centroid(axis), lo[axis], scale[axis]);
-                box[axis][b].expand(r->box());
-                ++count[axis][b];
-                occupied[axis] |= 1u << b;
+        if (last - first >= 256) {
+            Bins odd;
+            for (; last - first >= 2; first += 2) {
+                add_one(first[0], lo, scale);
+                odd.add_one(first[1], lo, scale);
             }
+            add(odd);
+        }
+        for (const BuildRef* r = first; r != last; ++r) add_one(*r, lo, scale);
     }
     void add(const Bins& other) {
         for (int axis = 0; axis < 3; ++axis)
@@ -157,7 +178,12 @@ struct Bins {
                 box[axis][b].expand(other.box[axis][b]);
                 count[axis][b] += other.count[axis][b];
             }
-        for (int axis = 0; axis < 3; ++axis) occupied[axis] |= other.occupied[axis];
+    }
+    // Bit b: bin b of the axis holds a primitive.
+    uint32_t occupied(int axis) const {
+        uint32_t bits = 0;
+        for (int b = 0; b < kBins; ++b) bits |= static_cast<uint32_t>(count[axis][b] != 0) << b;
+        return bits;
     }
 };
 
@@ -414,41 +440,42 @@ private:
     Workers workers_;
 };
 
-// Reorders [first, last) so that the primitives `goes_left` holds for come first, and returns
-// where the others start; `left` and `right` receive the extents of the two parts. The swaps are
-// those of libstdc++'s std::partition, so the order is that of the build before the extents
-// were gathered here (which saved the children a pass over their primitives).
+// Reorders [first, last) so that the primitives whose centroids `goes_left` holds for come
+// first, and returns where the others start; `left` and `right` receive the extents of the two
+// parts. The swaps are those of libstdc++'s std::partition, so the order is that of the build
+// before the extents were gathered here (which saved the children a pass over their primitives).
+// Each primitive's centroid is computed once, for the test and its side's extent.
 template <class GoesLeft>
 BuildRef* partition(BuildRef* first, BuildRef* last, GoesLeft goes_left, Extent& left,
                     Extent& right) {
     for (;;) {
+        Float4 c_first, c_last;
         for (;;) {
             if (first == last) return first;
-            if (!goes_left(*first)) break;
-            left.add(*first++);
+            c_first = first->centroid();
+            if (!goes_left(c_first)) break;
+            left.add(*first++, c_first);
         }
         --last;  // *first goes right: find one on the right to swap it with
         for (;;) {
             if (first == last) {
-                right.add(*first);
+                right.add(*first, c_first);
                 return first;
             }
-            if (goes_left(*last)) break;
-            right.add(*last--);
+            c_last = last->centroid();
+            if (goes_left(c_last)) break;
+            right.add(*last--, c_last);
         }
         std::swap(*first, *last);
-        left.add(*first++);
-        right.add(*last);
+        left.add(*first++, c_last);
+        right.add(*last, c_first);
     }
 }
 
-// The cost of splitting a node of area node_area into the two sides given.
-float split_cost(const Box4& left, uint32_t left_count, float right_area, uint32_t right_count,
-                 float node_area) {
-    return kTraversalCost + (left.bounds().surface_area() * leaf_cost(left_count) +
-                             right_area * leaf_cost(right_count)) /
-                                node_area;
-}
+// The cost of splitting a node of area node_area in two: kTraversalCost + weight / node_area,
+// where the weight is the sum over the two sides of area x leaf_cost(count).
+float side_weight(float area, uint32_t count) { return area * leaf_cost(count); }
+float split_cost(float weight, float node_area) { return kTraversalCost + weight / node_area; }
 
 // Whether no split of the primitives [first, last) can cost less than their leaf, by a lower
 // bound of every split's cost: one side holds the largest of their boxes, whose area it has at
@@ -469,8 +496,7 @@ bool no_split_beats_leaf(const BuildRef* first, const BuildRef* last, float node
         largest = std::max(largest, area);
         smallest = std::min(smallest, area);
     }
-    const float one = leaf_cost(1);
-    const float bound = kTraversalCost + (largest * one + smallest * one) / node_area;
+    const float bound = split_cost(side_weight(largest, 1) + side_weight(smallest, 1), node_area);
     return bound >= leaf_cost(static_cast<uint32_t>(last - first));  // false for NaN (A = 0)
 }
 
@@ -521,13 +547,13 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
     // it costs, and the first of equal costs is kept, so skipping it changes nothing: the
     // answer is that of the full sweep, bit for bit.
     Split best;
+    float best_weight = kInfinity;
     for (int axis = 0; axis < 3; ++axis) {
         if (!usable[axis]) continue;
-        const uint32_t occupied = bins.occupied[axis];
+        const uint32_t occupied = bins.occupied(axis);
         // Sweep from the right to get the area and count of every right-hand side, each stored
         // at the right side's first occupied bin.
-        std::array<float, kBins> right_area;
-        std::array<uint32_t, kBins> right_count;
+        std::array<float, kBins> right_weight;
         Box4 acc;
         uint32_t acc_count = 0;
         for (uint32_t m = occupied; m != 0;) {
@@ -536,8 +562,7 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
             if (m == 0) break;  // the first occupied bin: no split leaves it on the right
             acc.expand(bins.box[axis][b]);
             acc_count += bins.count[axis][b];
-            right_area[b] = acc.bounds().surface_area();
-            right_count[b] = acc_count;
+            right_weight[b] = side_weight(acc.bounds().surface_area(), acc_count);
         }
         acc = Box4{};
         acc_count = 0;
@@ -548,9 +573,16 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
             acc.expand(bins.box[axis][b]);
             acc_count += bins.count[axis][b];
             const int next = std::countr_zero(m);  // the right side's first bin
-            const float cost =
-                split_cost(acc, acc_count, right_area[next], right_count[next], node_area);
-            if (cost < best.cost) best = {axis, b, cost};
+            const float weight =
+                side_weight(acc.bounds().surface_area(), acc_count) + right_weight[next];
+            // For a node of positive area the cost rounds monotonically with the weight, so a
+            // weight no less than the best's cannot cost less: its division is skipped.
+            if (node_area > 0.0f && !(weight < best_weight)) continue;
+            const float cost = split_cost(weight, node_area);
+            if (cost < best.cost) {
+                best = {axis, b, cost};
+                best_weight = weight;
+            }
         }
     }
     return best;
@@ -601,8 +633,8 @@ void BinaryBuilder::subtree(BuildTask root) {
             const float lo = task.extent.centroids.lo[axis];
             split = partition(
                 first, last,
-                [&](const BuildRef& r) {
-                    return bin_of(r.centroid(axis), lo, scale[axis]) <= best.bin;
+                [&](const Float4& centroid) {
+                    return bin_of(centroid[axis], lo, scale[axis]) <= best.bin;
                 },
                 left, right);
         } else {

@@ -13,6 +13,8 @@ namespace lessons {
 using Float4 = float __attribute__((vector_size(16)));
 // Eight floats in one AVX register, for the BVH's eight boxes.
 using Float8 = float __attribute__((vector_size(32)));
+// Four 32-bit integers, as Float4 converts to (bin indices, one per lane).
+using Int4 = int __attribute__((vector_size(16)));
 
 // A vector comparison gives -1 (all bits set) in each lane where it holds, else 0. lane_bits
 // gathers them as bit i for lane i, for a loop over the lanes that hold: on x86 the movmskps
