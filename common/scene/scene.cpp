@@ -102,6 +102,7 @@ void Scene::commit(int threads) {
 
 void Scene::build_bvh(int threads) {
     prims_.clear();
+    prims_.reserve(spheres_.size() + quads_.size() + triangles_.size());
     for (uint32_t i = 0; i < spheres_.size(); ++i) prims_.emplace_back(ShapeKind::Sphere, i);
     for (uint32_t i = 0; i < quads_.size(); ++i) prims_.emplace_back(ShapeKind::Quad, i);
     for (uint32_t i = 0; i < triangles_.size(); ++i) prims_.emplace_back(ShapeKind::Triangle, i);
@@ -160,6 +161,9 @@ AreaLight Scene::area_light_of(PrimRef p, uint32_t m) const {
 
 void Scene::collect_area_lights() {
     area_lights_.clear();
+    if (std::none_of(materials_.begin(), materials_.end(),
+                     [](const Material& m) { return m.is_emissive(); }))
+        return;  // no pass over the primitives in a scene without emission
     for (PrimRef p : prims_) {
         const uint32_t m = material_of(p);
         if (!materials_[m].is_emissive()) continue;
