@@ -538,8 +538,8 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
     for (int axis = 0; axis < 3; ++axis) {
         if (!usable[axis]) continue;
         const uint32_t occupied = bins.occupied(axis);
-        // Sweep from the right to get the area and count of every right-hand side, each stored
-        // at the right side's first occupied bin.
+        // Sweep from the right to get the weight (area x leaf cost) of every right-hand side,
+        // each stored at the right side's first occupied bin.
         std::array<float, kBins> right_weight;
         Box4 acc;
         uint32_t acc_count = 0;
