@@ -70,14 +70,10 @@ void check_fits_in_memory(double bytes, const std::string& what, const std::stri
 uint64_t file_hash(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return 0;
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = kFnvStart;
     char buffer[1 << 16];
-    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-        for (std::streamsize i = 0; i < in.gcount(); ++i) {
-            h ^= static_cast<unsigned char>(buffer[i]);
-            h *= 1099511628211ull;
-        }
-    }
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0)
+        h = fnv1a(h, buffer, static_cast<size_t>(in.gcount()));
     return h;
 }
 

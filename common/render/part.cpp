@@ -115,26 +115,18 @@ std::map<std::string, std::string> header_fields(const PartHeader& h) {
     };
 }
 
-uint64_t fnv(uint64_t h, const void* data, size_t size) {
-    const unsigned char* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) {
-        h ^= p[i];
-        h *= 1099511628211ull;
-    }
-    return h;
-}
 
 // Over the header's fields and the merge channels (in the order of their names).
 std::string checksum(const std::map<std::string, std::string>& fields,
                      const std::map<std::string, std::vector<uint32_t>>& channels) {
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = kFnvStart;
     for (const auto& [name, text] : fields) {
-        h = fnv(h, name.data(), name.size() + 1);
-        h = fnv(h, text.data(), text.size() + 1);
+        h = fnv1a(h, name.data(), name.size() + 1);
+        h = fnv1a(h, text.data(), text.size() + 1);
     }
     for (const auto& [name, words] : channels) {
-        h = fnv(h, name.data(), name.size() + 1);
-        h = fnv(h, words.data(), words.size() * sizeof(uint32_t));
+        h = fnv1a(h, name.data(), name.size() + 1);
+        h = fnv1a(h, words.data(), words.size() * sizeof(uint32_t));
     }
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
@@ -466,7 +458,7 @@ std::string PartHeader::samples_text() const {
 }
 
 std::string scene_files_hash(const std::string& scene_file, const InputLimits& limits) {
-    uint64_t h = 1469598103934665603ull;
+    uint64_t h = kFnvStart;
     std::vector<std::string> files;
     if (is_gltf_file(scene_file)) {
         files = {scene_file};
@@ -485,7 +477,7 @@ std::string scene_files_hash(const std::string& scene_file, const InputLimits& l
         std::ifstream in(f, std::ios::binary);
         if (!in) throw InputError(f, 0, "", "cannot be read (permissions?)");
         const uint64_t fh = file_hash(f);
-        h = fnv(h, &fh, sizeof fh);
+        h = fnv1a(h, &fh, sizeof fh);
     }
     char hex[17];
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
