@@ -128,11 +128,14 @@ float leaf_cost(uint32_t n) {
     return static_cast<float>((n + 3) / 4) + 0.25f * static_cast<float>(n);
 }
 
-int bin_of(float centroid, float lo, float scale) {
-    const float b = (centroid - lo) * scale;
-    if (!(b > 0.0f)) return 0;  // also catches NaN
-    if (!(b < static_cast<float>(kBins))) return kBins - 1;
-    return static_cast<int>(b);
+// A centroid's bin along an axis whose centroids start at lo, with `scale` bins per unit, is the
+// integer part of b = (centroid - lo) scale, clamped to [0, kBins - 1]; a NaN b (from a NaN
+// coordinate) is in bin 0 (Bins::bins_of). Whether that bin is at most `bin`, for a bin before
+// the last (a split's: some occupied bin follows it), by one comparison: b <= 0 or NaN is bin 0;
+// b in [0, kBins) is in bin trunc(b), at most `bin` exactly where b < bin + 1 (a float,
+// exactly); b >= kBins is in the last bin, beyond `bin`, and there b >= bin + 1 too.
+bool bin_at_most(float centroid, float lo, float scale, float bin_end) {
+    return !((centroid - lo) * scale >= bin_end);  // bin_end = bin + 1
 }
 
 // The bins of a node along each axis: the box and count of the primitives whose centroids fall
@@ -146,20 +149,18 @@ struct Bins {
     Float8 bin[3][kBins];
 
     Bins() {
-        Float8 empty = Float8{} + kInfinity;
-        empty[3] = std::bit_cast<float>(0u);  // no primitive
         for (auto& axis_bins : bin)
-            for (Float8& b : axis_bins) b = empty;
+            for (Float8& b : axis_bins) b = empty();
     }
-    Box4 box(int axis, int b) const {
-        const Float8& v = bin[axis][b];
-        return {__builtin_shufflevector(v, v, 0, 1, 2, 3),
-                -__builtin_shufflevector(v, v, 4, 5, 6, 7)};  // lane 3 is not part of the box
+    // A bin with no primitive: an empty box (minimum +inf, negated maximum +inf), count 0.
+    static Float8 empty() {
+        Float8 v = Float8{} + kInfinity;
+        v[3] = std::bit_cast<float>(0u);
+        return v;
     }
-    uint32_t count(int axis, int b) const { return std::bit_cast<uint32_t>(bin[axis][b][3]); }
 
-    // bin_of for all three axes at once, in the lanes of one vector: the same arithmetic lane by
-    // lane, and the same clamping (a NaN lane fails `b > 0` and goes to bin 0), so the same bins.
+    // The bins of a centroid along all three axes at once, in the lanes of one vector (above
+    // bin_at_most; a NaN lane fails `b > 0` and goes to bin 0).
     static Int4 bins_of(const Float4& centroid, const Float4& lo, const Float4& scale) {
         Float4 b = (centroid - lo) * scale;
         b = b > 0.0f ? b : Float4{};
@@ -181,20 +182,30 @@ struct Bins {
             for (int axis = 0; axis < 3; ++axis) grow(bin[axis][b[axis]], prim);
         }
     }
+    // Two bins as one: the box around both, the sum of their counts.
+    static Float8 merged(const Float8& v, const Float8& o) {
+        const Float8 smaller = o < v ? o : v;
+        const Int8 summed = __builtin_bit_cast(Int8, v) + __builtin_bit_cast(Int8, o);
+        return kCountLane ? __builtin_bit_cast(Float8, summed) : smaller;
+    }
     void add(const Bins& other) {
         for (int axis = 0; axis < 3; ++axis)
-            for (int b = 0; b < kBins; ++b) {
-                const Float8& o = other.bin[axis][b];
-                Float8& v = bin[axis][b];
-                const Float8 smaller = o < v ? o : v;
-                const Int8 summed = __builtin_bit_cast(Int8, v) + __builtin_bit_cast(Int8, o);
-                v = kCountLane ? __builtin_bit_cast(Float8, summed) : smaller;
-            }
+            for (int b = 0; b < kBins; ++b) bin[axis][b] = merged(bin[axis][b], other.bin[axis][b]);
+    }
+    static uint32_t count_of(const Float8& v) { return std::bit_cast<uint32_t>(v[3]); }
+    // Bounds3::surface_area of a bin's box, with the same arithmetic: the extent max - min is
+    // -(negated max) - min, exactly; and a box is empty where an extent is negative, which for
+    // floats is where its minimum exceeds its maximum (a NaN makes neither).
+    static float area_of(const Float8& v) {
+        const Float4 extent = -__builtin_shufflevector(v, v, 4, 5, 6, 7) -
+                              __builtin_shufflevector(v, v, 0, 1, 2, 3);
+        if ((lane_bits(extent < 0.0f) & 7u) != 0) return 0.0f;
+        return 2.0f * (extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]);
     }
     // Bit b: bin b of the axis holds a primitive.
     uint32_t occupied(int axis) const {
         uint32_t bits = 0;
-        for (int b = 0; b < kBins; ++b) bits |= static_cast<uint32_t>(count(axis, b) != 0) << b;
+        for (int b = 0; b < kBins; ++b) bits |= static_cast<uint32_t>(count_of(bin[axis][b]) != 0) << b;
         return bits;
     }
 
@@ -568,28 +579,25 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
         const uint32_t occupied = bins.occupied(axis);
         // Sweep from the right to get the weight (area x leaf cost) of every right-hand side,
         // each stored at the right side's first occupied bin.
+        // A side is itself a bin: its box and count, grown bin by bin.
         std::array<float, kBins> right_weight;
-        Box4 acc;
-        uint32_t acc_count = 0;
+        Float8 side = Bins::empty();
         for (uint32_t m = occupied; m != 0;) {
             const int b = 31 - std::countl_zero(m);
             m &= ~(1u << b);
             if (m == 0) break;  // the first occupied bin: no split leaves it on the right
-            acc.expand(bins.box(axis, b));
-            acc_count += bins.count(axis, b);
-            right_weight[b] = side_weight(acc.bounds().surface_area(), acc_count);
+            side = Bins::merged(side, bins.bin[axis][b]);
+            right_weight[b] = side_weight(Bins::area_of(side), Bins::count_of(side));
         }
-        acc = Box4{};
-        acc_count = 0;
+        side = Bins::empty();
         for (uint32_t m = occupied; m != 0;) {
             const int b = std::countr_zero(m);
             m &= m - 1;
             if (m == 0) break;  // the last occupied bin: no split leaves it on the left
-            acc.expand(bins.box(axis, b));
-            acc_count += bins.count(axis, b);
+            side = Bins::merged(side, bins.bin[axis][b]);
             const int next = std::countr_zero(m);  // the right side's first bin
             const float weight =
-                side_weight(acc.bounds().surface_area(), acc_count) + right_weight[next];
+                side_weight(Bins::area_of(side), Bins::count_of(side)) + right_weight[next];
             // For a node of positive area the cost rounds monotonically with the weight, so a
             // weight no less than the best's cannot cost less: its division is skipped.
             if (node_area > 0.0f && !(weight < best_weight)) continue;
@@ -646,10 +654,11 @@ void BinaryBuilder::subtree(BuildTask root) {
         if (sah_split) {
             const int axis = best.axis;
             const float lo = task.extent.centroids.lo[axis];
+            const auto bin_end = static_cast<float>(best.bin + 1);
             split = partition(
                 first, last,
                 [&](const Float4& centroid) {
-                    return bin_of(centroid[axis], lo, scale[axis]) <= best.bin;
+                    return bin_at_most(centroid[axis], lo, scale[axis], bin_end);
                 },
                 left, right);
         } else {
