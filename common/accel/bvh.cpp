@@ -148,15 +148,14 @@ bool bin_at_most(float centroid, float lo, float scale, float bin_end) {
 struct Bins {
     Float8 bin[3][kBins];
 
+    // A bin with no primitive: an empty box (minimum +inf, negated maximum +inf), count 0 (the
+    // bits of 0.0f).
+    static constexpr Float8 kEmpty = {kInfinity, kInfinity, kInfinity, 0.0f,
+                                      kInfinity, kInfinity, kInfinity, kInfinity};
+
     Bins() {
         for (auto& axis_bins : bin)
-            for (Float8& b : axis_bins) b = empty();
-    }
-    // A bin with no primitive: an empty box (minimum +inf, negated maximum +inf), count 0.
-    static Float8 empty() {
-        Float8 v = Float8{} + kInfinity;
-        v[3] = std::bit_cast<float>(0u);
-        return v;
+            for (Float8& b : axis_bins) b = kEmpty;
     }
 
     // The bins of a centroid along all three axes at once, in the lanes of one vector (above
@@ -167,30 +166,25 @@ struct Bins {
         b = b < static_cast<float>(kBins) ? b : Float4{} + static_cast<float>(kBins - 1);
         return __builtin_convertvector(b, Int4);  // truncates, as static_cast<int> does
     }
-    // Grows bin v by a primitive's vector p (as a bin's lanes) and counts it.
-    static void grow(Float8& v, const Float8& p) {
-        const Float8 smaller = p < v ? p : v;  // Box4::expand's comparison, lane by lane
-        const Int8 counted = __builtin_bit_cast(Int8, v) + Int8{0, 0, 0, 1, 0, 0, 0, 0};
-        v = kCountLane ? __builtin_bit_cast(Float8, counted) : smaller;
+    // Grows bin v by bin o: the box around both (Box4::expand's comparisons, lane by lane), the
+    // sum of their counts.
+    static void merge(Float8& v, const Float8& o) {
+        const Float8 smaller = o < v ? o : v;
+        const Int8 summed = __builtin_bit_cast(Int8, v) + __builtin_bit_cast(Int8, o);
+        v = kCountLane ? __builtin_bit_cast(Float8, summed) : smaller;
     }
     void add(const BuildRef* first, const BuildRef* last, const Float4& lo, const Float4& scale) {
         for (const BuildRef* r = first; r != last; ++r) {
             const Int4 b = bins_of(r->centroid(), lo, scale);
-            // Lanes 3 and 7 (the primitive's index, and 0) are never read as part of a box: grow()
-            // keeps the count in lane 3.
-            const Float8 prim = __builtin_shufflevector(r->lo, -r->hi, 0, 1, 2, 3, 4, 5, 6, 7);
-            for (int axis = 0; axis < 3; ++axis) grow(bin[axis][b[axis]], prim);
+            // The primitive as a bin of one (lane 7, 0 here, is never read).
+            Float8 prim = __builtin_shufflevector(r->lo, -r->hi, 0, 1, 2, 3, 4, 5, 6, 7);
+            prim[3] = std::bit_cast<float>(1u);
+            for (int axis = 0; axis < 3; ++axis) merge(bin[axis][b[axis]], prim);
         }
-    }
-    // Two bins as one: the box around both, the sum of their counts.
-    static Float8 merged(const Float8& v, const Float8& o) {
-        const Float8 smaller = o < v ? o : v;
-        const Int8 summed = __builtin_bit_cast(Int8, v) + __builtin_bit_cast(Int8, o);
-        return kCountLane ? __builtin_bit_cast(Float8, summed) : smaller;
     }
     void add(const Bins& other) {
         for (int axis = 0; axis < 3; ++axis)
-            for (int b = 0; b < kBins; ++b) bin[axis][b] = merged(bin[axis][b], other.bin[axis][b]);
+            for (int b = 0; b < kBins; ++b) merge(bin[axis][b], other.bin[axis][b]);
     }
     static uint32_t count_of(const Float8& v) { return std::bit_cast<uint32_t>(v[3]); }
     // Bounds3::surface_area of a bin's box, with the same arithmetic: the extent max - min is
@@ -581,20 +575,20 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
         // each stored at the right side's first occupied bin.
         // A side is itself a bin: its box and count, grown bin by bin.
         std::array<float, kBins> right_weight;
-        Float8 side = Bins::empty();
+        Float8 side = Bins::kEmpty;
         for (uint32_t m = occupied; m != 0;) {
             const int b = 31 - std::countl_zero(m);
             m &= ~(1u << b);
             if (m == 0) break;  // the first occupied bin: no split leaves it on the right
-            side = Bins::merged(side, bins.bin[axis][b]);
+            Bins::merge(side, bins.bin[axis][b]);
             right_weight[b] = side_weight(Bins::area_of(side), Bins::count_of(side));
         }
-        side = Bins::empty();
+        side = Bins::kEmpty;
         for (uint32_t m = occupied; m != 0;) {
             const int b = std::countr_zero(m);
             m &= m - 1;
             if (m == 0) break;  // the last occupied bin: no split leaves it on the left
-            side = Bins::merged(side, bins.bin[axis][b]);
+            Bins::merge(side, bins.bin[axis][b]);
             const int next = std::countr_zero(m);  // the right side's first bin
             const float weight =
                 side_weight(Bins::area_of(side), Bins::count_of(side)) + right_weight[next];
