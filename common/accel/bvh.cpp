@@ -292,7 +292,7 @@ private:
 // node's eight boxes cost one test; the leaves are the binary tree's whatever the cut). By
 // dynamic programming, as in the optimal collapse of Ylitie, Karras and Laine ("Efficient
 // Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017), here over interior
-// nodes only: cost(v, k) is the least cost of v's subtree when it may fill up to k slots of its
+// nodes only: cost(v, k) (solve) is the least cost of v's subtree when it may fill up to k slots of its
 // parent, either as one slot (a leaf, or a wide node of its own: its area plus the cheapest way
 // for its two children to fill its 8 slots) or opened, its children's subtrees sharing the k
 // slots. Opening a node into its parent saves its area, so nodes come out full where they can:
@@ -302,19 +302,11 @@ class WideCut {
 public:
     WideCut(const BinaryNode* binary, uint32_t node_count)
         : binary_(binary),
-          cost_(new std::array<float, kBvhWidth>[node_count]),  // written before read
-          left_slots_(new std::array<uint8_t, kBvhWidth>[node_count]) {
-        // Children before parents: the interior nodes in reverse depth-first order.
-        std::vector<uint32_t> order, todo{0};
-        while (!todo.empty()) {
-            const uint32_t v = todo.back();
-            todo.pop_back();
-            if (binary_[v].count > 0) continue;
-            order.push_back(v);
-            todo.push_back(binary_[v].first);
-            todo.push_back(binary_[v].first + 1);
-        }
-        for (auto v = order.rbegin(); v != order.rend(); ++v) solve(*v);
+          left_slots_(new std::array<uint8_t, kBvhWidth>[node_count]) {  // written before read
+        // Children before parents, by recursion: each node's costs are its call's result, read
+        // once by its parent, and no table of them is kept. The binary tree is at most
+        // Bvh::kMaxDepth deep.
+        if (binary_[0].count == 0) solve(0);
     }
 
     // The slots of interior node v as a wide node, in order: binary nodes, each a leaf or the
@@ -329,17 +321,21 @@ public:
     }
 
 private:
-    float cost(uint32_t v, int k) const { return binary_[v].count > 0 ? 0.0f : cost_[v][k - 1]; }
-
-    void solve(uint32_t v) {
+    // The least cost of interior node v's subtree when it may fill up to k slots of its parent,
+    // for k = 1 .. 8 (element k - 1); left_slots_[v] records how each is reached.
+    using Costs = std::array<float, kBvhWidth>;
+    Costs solve(uint32_t v) {
         const uint32_t left = binary_[v].first, right = left + 1;
+        static constexpr Costs kLeaf{};  // a leaf fills one slot, at no cost of wide nodes
+        const Costs left_cost = binary_[left].count > 0 ? kLeaf : solve(left);
+        const Costs right_cost = binary_[right].count > 0 ? kLeaf : solve(right);
         float open[kBvhWidth + 1];
         uint8_t split[kBvhWidth + 1];
         for (int k = 2; k <= kBvhWidth; ++k) {
             open[k] = kInfinity;
             split[k] = 1;
             for (int j = 1; j < k; ++j) {
-                const float c = cost(left, j) + cost(right, k - j);
+                const float c = left_cost[j - 1] + right_cost[k - j - 1];
                 if (c < open[k]) {
                     open[k] = c;
                     split[k] = static_cast<uint8_t>(j);
@@ -347,16 +343,18 @@ private:
             }
         }
         const float as_node = binary_[v].box().surface_area() + open[kBvhWidth];
-        cost_[v][0] = as_node;
+        Costs cost;
+        cost[0] = as_node;
         left_slots_[v][0] = 0;  // one slot: v itself
         for (int k = 2; k <= kBvhWidth; ++k) {
             // On a tie, one node fewer. With 8 slots, v is opened whatever the costs (as_node
             // adds v's area to open[8]; a NaN area must not say otherwise), so that
             // left_slots_[v][7] says how a wide node v shares its slots: slots() reads it.
             const bool opened = k == kBvhWidth || !(open[k] > as_node);
-            cost_[v][k - 1] = opened ? open[k] : as_node;
+            cost[k - 1] = opened ? open[k] : as_node;
             left_slots_[v][k - 1] = opened ? split[k] : 0;
         }
+        return cost;
     }
 
     // Appends the slots that v's subtree fills when it may fill k.
@@ -371,7 +369,6 @@ private:
     }
 
     const BinaryNode* binary_;
-    std::unique_ptr<std::array<float, kBvhWidth>[]> cost_;
     std::unique_ptr<std::array<uint8_t, kBvhWidth>[]> left_slots_;
 };
 
