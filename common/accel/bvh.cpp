@@ -5,6 +5,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <exception>
 #include <list>
@@ -40,10 +41,11 @@ constexpr size_t kMinPart = 16384;
 constexpr uint32_t kMaxSubtrees = 1024;
 
 // A box as two vectors of four floats (x, y, z and a fourth lane), so that growing it by another
-// box takes one minimum and one maximum instruction: binning does so three times per primitive
-// and node, the build's innermost loop. Bounds3 takes six scalar ones. The comparisons are
-// Bounds3::expand's, lane by lane, so the boxes (and the tree) are the same bits. The fourth lane
-// is not part of the box: a primitive's copy keeps its index there (BuildRef).
+// box takes one minimum and one maximum instruction (Bounds3 takes six scalar ones): the
+// extents of a node's primitives and of its children (the bins are vectors of eight: Bins). The
+// comparisons are Bounds3::expand's, lane by lane, so the boxes (and the tree) are the same
+// bits. The fourth lane is not part of the box: a primitive's copy keeps its index there
+// (BuildRef).
 struct Box4 {
     Float4 lo = Float4{} + kInfinity, hi = Float4{} - kInfinity;
     static Box4 of(const Bounds3& b) {
@@ -158,8 +160,8 @@ struct Bins {
             for (Float8& b : axis_bins) b = kEmpty;
     }
 
-    // The bins of a centroid along all three axes at once, in the lanes of one vector (above
-    // bin_at_most; a NaN lane fails `b > 0` and goes to bin 0).
+    // The bins of a centroid along all three axes at once, in the lanes of one vector, as the
+    // comment above bin_at_most says (a NaN lane fails `b > 0` and goes to bin 0).
     static Int4 bins_of(const Float4& centroid, const Float4& lo, const Float4& scale) {
         Float4 b = (centroid - lo) * scale;
         b = b > 0.0f ? b : Float4{};
@@ -170,13 +172,15 @@ struct Bins {
     // sum of their counts.
     static void merge(Float8& v, const Float8& o) {
         const Float8 smaller = o < v ? o : v;
-        const Int8 summed = __builtin_bit_cast(Int8, v) + __builtin_bit_cast(Int8, o);
+        // Unsigned: the box lanes' bits are added too, and thrown away; they must not overflow
+        // a signed type.
+        const UInt8 summed = __builtin_bit_cast(UInt8, v) + __builtin_bit_cast(UInt8, o);
         v = kCountLane ? __builtin_bit_cast(Float8, summed) : smaller;
     }
     void add(const BuildRef* first, const BuildRef* last, const Float4& lo, const Float4& scale) {
         for (const BuildRef* r = first; r != last; ++r) {
             const Int4 b = bins_of(r->centroid(), lo, scale);
-            // The primitive as a bin of one (lane 7, 0 here, is never read).
+            // The primitive as a bin of one (lane 7, -0 here, is computed with but never used).
             Float8 prim = __builtin_shufflevector(r->lo, -r->hi, 0, 1, 2, 3, 4, 5, 6, 7);
             prim[3] = std::bit_cast<float>(1u);
             for (int axis = 0; axis < 3; ++axis) merge(bin[axis][b[axis]], prim);
@@ -187,19 +191,21 @@ struct Bins {
             for (int b = 0; b < kBins; ++b) merge(bin[axis][b], other.bin[axis][b]);
     }
     static uint32_t count_of(const Float8& v) { return std::bit_cast<uint32_t>(v[3]); }
-    // Bounds3::surface_area of a bin's box, with the same arithmetic: the extent max - min is
-    // -(negated max) - min, exactly; and a box is empty where an extent is negative, which for
-    // floats is where its minimum exceeds its maximum (a NaN makes neither).
+    // Bounds3::surface_area of a bin's box, with the same arithmetic: empty where a minimum
+    // exceeds its maximum (a NaN makes neither), else from the extent max - min, which is
+    // -(negated max) - min exactly. The fourth lanes are zeros, not the count.
     static float area_of(const Float8& v) {
-        const Float4 extent = -__builtin_shufflevector(v, v, 4, 5, 6, 7) -
-                              __builtin_shufflevector(v, v, 0, 1, 2, 3);
-        if ((lane_bits(extent < 0.0f) & 7u) != 0) return 0.0f;
+        const Float4 lo = __builtin_shufflevector(v, Float8{}, 0, 1, 2, 8);
+        const Float4 hi = -__builtin_shufflevector(v, Float8{}, 4, 5, 6, 8);
+        if ((lane_bits(lo > hi) & 7u) != 0) return 0.0f;
+        const Float4 extent = hi - lo;
         return 2.0f * (extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]);
     }
     // Bit b: bin b of the axis holds a primitive.
     uint32_t occupied(int axis) const {
         uint32_t bits = 0;
-        for (int b = 0; b < kBins; ++b) bits |= static_cast<uint32_t>(count_of(bin[axis][b]) != 0) << b;
+        for (int b = 0; b < kBins; ++b)
+            bits |= static_cast<uint32_t>(count_of(bin[axis][b]) != 0) << b;
         return bits;
     }
 
@@ -292,7 +298,7 @@ private:
 // node's eight boxes cost one test; the leaves are the binary tree's whatever the cut). By
 // dynamic programming, as in the optimal collapse of Ylitie, Karras and Laine ("Efficient
 // Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", HPG 2017), here over interior
-// nodes only: cost(v, k) (solve) is the least cost of v's subtree when it may fill up to k slots of its
+// nodes only: cost(v, k) is the least cost of v's subtree when it may fill up to k slots of its
 // parent, either as one slot (a leaf, or a wide node of its own: its area plus the cheapest way
 // for its two children to fill its 8 slots) or opened, its children's subtrees sharing the k
 // slots. Opening a node into its parent saves its area, so nodes come out full where they can:
@@ -645,6 +651,7 @@ void BinaryBuilder::subtree(BuildTask root) {
         if (sah_split) {
             const int axis = best.axis;
             const float lo = task.extent.centroids.lo[axis];
+            assert(best.bin < kBins - 1);  // bin_at_most's condition: a bin follows the split's
             const auto bin_end = static_cast<float>(best.bin + 1);
             split = partition(
                 first, last,

@@ -15,8 +15,10 @@ using Float4 = float __attribute__((vector_size(16)));
 using Float8 = float __attribute__((vector_size(32)));
 // Four 32-bit integers, as Float4 converts to (bin indices, one per lane).
 using Int4 = int __attribute__((vector_size(16)));
-// Eight 32-bit integers (the build's bins: a count beside a box).
+// Eight 32-bit integers (the build's bins: a count beside a box; unsigned where lanes are added,
+// so that no sum overflows a signed type).
 using Int8 = int __attribute__((vector_size(32)));
+using UInt8 = unsigned __attribute__((vector_size(32)));
 
 // A vector comparison gives -1 (all bits set) in each lane where it holds, else 0. lane_bits
 // gathers them as bit i for lane i, for a loop over the lanes that hold: on x86 the movmskps
