@@ -226,7 +226,7 @@ uint64_t tree_hash(const Bvh& bvh) {
 
 }  // namespace
 
-// The build shares its work among threads (subtrees, and the binning of large nodes), and the
+// The build shares its work among threads (subtrees, the binning of large nodes, the cut), and the
 // tree must not depend on how: the same nodes, bit for bit, and the same primitive order on 1, 2
 // and 5 threads.
 TEST(Bvh, TheTreeIsTheSameOnAnyNumberOfThreads) {

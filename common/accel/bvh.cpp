@@ -306,13 +306,33 @@ private:
 // eight) left half the wide nodes of a mesh with two children (docs/performance.md).
 class WideCut {
 public:
-    WideCut(const BinaryNode* binary, uint32_t node_count)
+    // On up to `threads` threads; the cut is the same on any number.
+    WideCut(const BinaryNode* binary, uint32_t node_count, int threads)
         : binary_(binary),
           left_slots_(new std::array<uint8_t, kBvhWidth>[node_count]) {  // written before read
         // Children before parents, by recursion: each node's costs are its call's result, read
         // once by its parent, and no table of them is kept. The binary tree is at most
         // Bvh::kMaxDepth deep.
-        if (binary_[0].count == 0) solve(0);
+        if (binary_[0].count > 0) return;
+        threads = build_threads(threads);
+        if (threads == 1) {
+            solve(0);
+            return;
+        }
+        // The subtrees a few levels down (about four per thread) are solved on every thread,
+        // each taking the next; then the nodes above them, here. Each node is solved from its
+        // children's costs alone, so the order does not change the cut.
+        const int depth =
+            std::min(12, static_cast<int>(std::bit_width(4u * static_cast<unsigned>(threads) - 1u)));
+        std::vector<uint32_t> heads;
+        find_heads(0, depth, heads);
+        std::vector<Costs> head_costs(heads.size());
+        std::atomic<size_t> next{0};
+        parallel_parts(static_cast<size_t>(threads), threads, 1, [&](size_t, size_t, int) {
+            for (size_t i; (i = next.fetch_add(1)) < heads.size();) head_costs[i] = solve(heads[i]);
+        });
+        size_t taken = 0;
+        solve_above(0, depth, head_costs, taken);
     }
 
     // The slots of interior node v as a wide node, in order: binary nodes, each a leaf or the
@@ -330,11 +350,35 @@ private:
     // The least cost of interior node v's subtree when it may fill up to k slots of its parent,
     // for k = 1 .. 8 (element k - 1); left_slots_[v] records how each is reached.
     using Costs = std::array<float, kBvhWidth>;
+    static constexpr Costs kLeaf{};  // a leaf fills one slot, at no cost of wide nodes
     Costs solve(uint32_t v) {
         const uint32_t left = binary_[v].first, right = left + 1;
-        static constexpr Costs kLeaf{};  // a leaf fills one slot, at no cost of wide nodes
         const Costs left_cost = binary_[left].count > 0 ? kLeaf : solve(left);
         const Costs right_cost = binary_[right].count > 0 ? kLeaf : solve(right);
+        return combine(v, left_cost, right_cost);
+    }
+    // The interior nodes `depth` levels below interior node v (or fewer, where leaves end a
+    // branch sooner: those are solved above), left to right.
+    void find_heads(uint32_t v, int depth, std::vector<uint32_t>& heads) const {
+        if (depth == 0) {
+            heads.push_back(v);
+            return;
+        }
+        for (const uint32_t child : {binary_[v].first, binary_[v].first + 1})
+            if (binary_[child].count == 0) find_heads(child, depth - 1, heads);
+    }
+    // solve(v), with the heads' costs given, in find_heads' order.
+    Costs solve_above(uint32_t v, int depth, const std::vector<Costs>& head_costs, size_t& taken) {
+        if (depth == 0) return head_costs[taken++];
+        const uint32_t left = binary_[v].first, right = left + 1;
+        const Costs left_cost =
+            binary_[left].count > 0 ? kLeaf : solve_above(left, depth - 1, head_costs, taken);
+        const Costs right_cost =
+            binary_[right].count > 0 ? kLeaf : solve_above(right, depth - 1, head_costs, taken);
+        return combine(v, left_cost, right_cost);
+    }
+    // Interior node v's costs from its children's.
+    Costs combine(uint32_t v, const Costs& left_cost, const Costs& right_cost) {
         float open[kBvhWidth + 1];
         uint8_t split[kBvhWidth + 1];
         for (int k = 2; k <= kBvhWidth; ++k) {
@@ -724,7 +768,7 @@ Bvh::Bvh(std::span<const Bounds3> boxes, int threads) {
     });
     refs.reset();
     prim_index_.reserve(n + n / 2);
-    const WideCut cut(binary.get(), builder.nodes_taken());
+    const WideCut cut(binary.get(), builder.nodes_taken(), n >= kMinPart ? threads : 1);
     Collapse collapse{binary.get(), cut, build_order, nodes_, prim_index_};
     // The root is always a wide node, even over a single leaf.
     nodes_.reserve(builder.nodes_taken() / 3 + 1);
