@@ -144,9 +144,9 @@ bool bin_at_most(float centroid, float lo, float scale, float bin_end) {
 // in each. A bin is one vector of eight floats: its box's minimum in lanes 0-2 and its negated
 // maximum in lanes 4-6, so that growing it by a primitive's box is one minimum instruction
 // (max(a, b) = -min(-a, -b), with the same comparisons as Box4::expand, so the same bits), and
-// its count in lane 3, as an integer's bits. Binning updates three bins per primitive, the
-// build's innermost loop: one load and one store each, where a Box4 and a separate count took
-// three of each, and the processor stores one vector per cycle at most.
+// its count in lane 3, as an unsigned integer's bits (added, and blended in). Binning updates
+// three bins per primitive, the build's innermost loop: one load and one store each, where a
+// Box4 and a separate count took three of each (docs/performance.md, design item 15).
 struct Bins {
     Float8 bin[3][kBins];
 
