@@ -2,6 +2,8 @@
 // extensions) and the masks their comparisons give.
 #pragma once
 
+#include <limits>
+
 #if defined(__SSE__)
 #include <immintrin.h>
 #endif
@@ -48,6 +50,18 @@ inline unsigned lane_bits(const Mask8& m) {
 #else
     return lane_bits_by_loop<Mask8, 8>(m);
 #endif
+}
+
+// next_float_up (geometry/math.h) in each lane, without a branch: a NaN or +inf stays, a zero
+// (either sign) becomes the smallest denormal, a positive float's bits go up by one and a
+// negative float's (-inf's too) down by one. The same bits as the scalar function, lane by lane
+// (NextFloat.TheLanesStepAsTheScalarFunction); -next_floats_up(-v) is next_float_down's.
+inline Float4 next_floats_up(const Float4& v) {
+    using UInt4 = unsigned __attribute__((vector_size(16)));
+    const UInt4 bits = __builtin_bit_cast(UInt4, v);
+    const Float4 stepped = __builtin_bit_cast(Float4, v > 0.0f ? bits + 1u : bits - 1u);
+    const Float4 moved = v == 0.0f ? Float4{} + std::numeric_limits<float>::denorm_min() : stepped;
+    return ((v != v) | (v == std::numeric_limits<float>::infinity())) ? v : moved;
 }
 
 }  // namespace lessons

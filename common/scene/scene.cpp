@@ -8,11 +8,19 @@
 #include <stdexcept>
 
 #include "accel/parallel.h"
+#include "accel/simd.h"
 
 namespace lessons {
 
 namespace {
 thread_local uint64_t t_rays_traced = 0;
+
+// A box rounded outwards by one float step on every side (Scene::build_bvh).
+Bounds3 rounded_outwards(const Bounds3& b) {
+    const Float4 lo = -next_floats_up(-Float4{b.min.x, b.min.y, b.min.z, 0.0f});
+    const Float4 hi = next_floats_up(Float4{b.max.x, b.max.y, b.max.z, 0.0f});
+    return {Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])};
+}
 }
 
 uint64_t rays_traced_by_this_thread() {
@@ -108,16 +116,10 @@ void Scene::build_bvh(int threads) {
     for (uint32_t i = 0; i < triangles_.size(); ++i) prims_.emplace_back(ShapeKind::Triangle, i);
     std::vector<Bounds3> boxes(prims_.size());
     parallel_parts(prims_.size(), threads, kMinBuildPart, [&](size_t begin, size_t end, int) {
-        for (size_t k = begin; k < end; ++k) {
-            // Rounded outwards by one float step, so a hit computed in higher precision (spheres
-            // are intersected in double) can never lie outside its box.
-            Bounds3 b = primitive_bounds(prims_[k]);
-            for (int i = 0; i < 3; ++i) {
-                b.min[i] = next_float_down(b.min[i]);
-                b.max[i] = next_float_up(b.max[i]);
-            }
-            boxes[k] = b;
-        }
+        // Rounded outwards by one float step, so a hit computed in higher precision (spheres
+        // are intersected in double) can never lie outside its box.
+        for (size_t k = begin; k < end; ++k)
+            boxes[k] = rounded_outwards(primitive_bounds(prims_[k]));
     });
     bvh_ = Bvh(boxes, threads);
 }
