@@ -270,15 +270,15 @@ TEST(NextFloat, StepsAsStdNextafterDoesEverywhere) {
 TEST(NextFloat, TheLanesStepAsTheScalarFunction) {
     // The scene's boxes are rounded outwards four lanes at a time (Scene::build_bvh), by
     // next_floats_up: the same bits as next_float_up (and, negated, next_float_down) in every
-    // lane, NaN payloads included, for the special values and 40,000 random bit patterns. (All
-    // 2^32 patterns agreed when it was written, in a run too long for a test.)
+    // lane, NaN payloads included, for the special values and random bit patterns, 40,000 in
+    // all. (All 2^32 patterns agreed when it was written, in a run too long for a test.)
     const float max = std::numeric_limits<float>::max();
     const float tiny = std::numeric_limits<float>::denorm_min();
     std::vector<float> values = {0.0f, -0.0f, tiny, -tiny, 1e-40f, -1e-40f, max, -max, kInfinity,
                                  -kInfinity, std::numeric_limits<float>::quiet_NaN(), 1.0f, -1.0f};
     Rng rng(13);
     while (values.size() % 4 != 0 || values.size() < 40000)
-        values.push_back(std::bit_cast<float>(static_cast<uint32_t>(rng.next_u32())));
+        values.push_back(std::bit_cast<float>(rng.next_u32()));
     for (size_t i = 0; i < values.size(); i += 4) {
         const Float4 v = {values[i], values[i + 1], values[i + 2], values[i + 3]};
         const Float4 up = next_floats_up(v), down = -next_floats_up(-v);

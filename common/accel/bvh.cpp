@@ -311,19 +311,19 @@ public:
         : binary_(binary),
           left_slots_(new std::array<uint8_t, kBvhWidth>[node_count]) {  // written before read
         // Children before parents, by recursion: each node's costs are its call's result, read
-        // once by its parent, and no table of them is kept. The binary tree is at most
-        // Bvh::kMaxDepth deep.
+        // once by its parent, and no table of them is kept (beyond the heads' costs below, when
+        // threads share the cut). The binary tree is at most Bvh::kMaxDepth deep.
         if (binary_[0].count > 0) return;
         threads = build_threads(threads);
         if (threads == 1) {
             solve(0);
             return;
         }
-        // The subtrees a few levels down (about four per thread) are solved on every thread,
+        // The subtrees a few levels down (four to eight per thread) are solved on every thread,
         // each taking the next; then the nodes above them, here. Each node is solved from its
         // children's costs alone, so the order does not change the cut.
-        const int depth =
-            std::min(12, static_cast<int>(std::bit_width(4u * static_cast<unsigned>(threads) - 1u)));
+        const int depth = std::min(
+            12, static_cast<int>(std::bit_width(4u * static_cast<unsigned>(threads) - 1u)));
         std::vector<uint32_t> heads;
         find_heads(0, depth, heads);
         std::vector<Costs> head_costs(heads.size());
@@ -333,6 +333,7 @@ public:
         });
         size_t taken = 0;
         solve_above(0, depth, head_costs, taken);
+        assert(taken == heads.size());
     }
 
     // The slots of interior node v as a wide node, in order: binary nodes, each a leaf or the
@@ -357,8 +358,8 @@ private:
         const Costs right_cost = binary_[right].count > 0 ? kLeaf : solve(right);
         return combine(v, left_cost, right_cost);
     }
-    // The interior nodes `depth` levels below interior node v (or fewer, where leaves end a
-    // branch sooner: those are solved above), left to right.
+    // The interior nodes `depth` levels below interior node v, left to right (branches that end
+    // sooner in leaves give none: they are solved above).
     void find_heads(uint32_t v, int depth, std::vector<uint32_t>& heads) const {
         if (depth == 0) {
             heads.push_back(v);
