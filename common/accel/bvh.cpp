@@ -620,8 +620,8 @@ Split BinaryBuilder::cheapest_split(const BuildTask& task, Float4& scale) {
         if (!usable[axis]) continue;
         const uint32_t occupied = bins.occupied(axis);
         // Sweep from the right to get the weight (area x leaf cost) of every right-hand side,
-        // each stored at the right side's first occupied bin.
-        // A side is itself a bin: its box and count, grown bin by bin.
+        // each stored at the right side's first occupied bin. A side is itself a bin (its box
+        // and count), grown bin by bin.
         std::array<float, kBins> right_weight;
         Float8 side = Bins::kEmpty;
         for (uint32_t m = occupied; m != 0;) {
