@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include "bidirectional.h"
+#include "mis.h"
 #include "io/scene_file.h"
+#include "scene/scene.h"
 #include "render_statistics.h"
 #include "rendering_equation.h"
 #include "test_util.h"
@@ -373,5 +375,399 @@ TEST(Bidirectional, ALampSeenDirectlyIsTheCamerasInsideItsImageAndSharedAtItsOut
         for (const auto& [difference, variance] : outline)
             EXPECT_LT(std::fabs(difference) / std::sqrt(std::max(variance, 1e-14)), z_pixel)
                 << difference << " (standard error " << std::sqrt(variance) << ")";
+    }
+}
+
+namespace {
+
+// The weights of every strategy that can make one given path, for the sum-to-one tests: the
+// path x_0 (the light) ... x_{n-1} (the camera) is made from both ends by subpaths_along, split
+// at every s, and each split the joins can run (connect.h) is weighed as connect() weighs it.
+struct GivenPath {
+    std::string name;
+    Vertex light;             // x_0 (see subpaths_along)
+    std::vector<Vec3> points;  // x_1 .. x_{n-2}
+};
+
+// A point p of the lamp made of material `lamp` (the only primitive with it), its emitting side
+// facing n.
+Vertex on_area_light(const Scene& scene, uint32_t lamp, const Vec3& p, const Vec3& n) {
+    Vertex v;
+    v.type = VertexType::Light;
+    v.p = p;
+    v.n = glm::normalize(n);
+    for (const AreaLight& light : scene.area_lights())
+        if (light.material == lamp) v.emitter = light.prim;
+    return v;
+}
+
+Vertex point_light_at(const Vec3& p) {
+    Vertex v;
+    v.type = VertexType::Light;
+    v.p = p;
+    v.point_light = true;
+    return v;
+}
+
+Vertex sky_towards(const Vec3& dir) {
+    Vertex v;
+    v.type = VertexType::Light;
+    v.p = glm::normalize(dir);
+    v.infinite = true;
+    return v;
+}
+
+struct WeightSum {
+    double sum = 0.0;
+    std::string terms;  // "s=0: 0.31, s=1: 0.69", for the messages
+    int strategies = 0;
+};
+
+WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path) {
+    WeightSum out;
+    std::string why;
+    const std::optional<GivenSubpaths> sub = subpaths_along(b, path.light, path.points, &why);
+    if (!sub) {
+        ADD_FAILURE() << path.name << ": " << why;
+        return out;
+    }
+    const int n = static_cast<int>(path.points.size()) + 2;
+    const std::vector<Vertex>& camera = sub->camera;  // camera[j] is x_{n-1-j}
+    auto delta = [&](int i) { return camera[n - 1 - i].bsdf->is_delta(); };  // 1 <= i <= n-2
+    const bool sky = path.light.infinite, point = path.light.point_light;
+    for (int s = 0; s < n; ++s) {
+        const int t = n - s;
+        // Which joins can run (connect.cpp): not at a mirror or glass; s = 0 only where the
+        // camera path can hit x_0 (not a point light); the sky starts no light subpaths; and
+        // s >= 1 only where its sampler can choose x_0's light at all.
+        bool runs;
+        if (s == 0) runs = !point;
+        else if (sky) runs = s == 1 && t >= 2 && !delta(1) && b.lights.environment_pdf(path.light.p) > 0.0f;
+        else if (t == 1) runs = n == 2 || !delta(n - 2);
+        else if (s == 1) runs = !delta(1);
+        else runs = !delta(s - 1) && !delta(s);
+        if (s >= 1 && !sky) runs = runs && sub->light[0].pdf_fwd > 0.0f;
+        if (!runs) continue;
+        Vertex light_sample, camera_end;
+        const Vertex* sampled = nullptr;
+        const Vertex* end = nullptr;
+        if (s == 1 && t >= 2) {  // as connect's light sample makes x_0
+            if (sky) {
+                light_sample = path.light;
+                light_sample.pdf_fwd = b.lights.environment_pdf(light_sample.p);
+            } else {
+                light_sample = sub->light[0];
+                light_sample.pdf_rev = 0.0f;
+            }
+            light_sample.pdf_light_sample = light_sample_density(b, light_sample, camera[t - 1]);
+            sampled = &light_sample;
+        }
+        if (t == 1) {
+            camera_end.type = VertexType::Camera;
+            camera_end.p = b.camera.position();
+            end = &camera_end;
+        }
+        const std::span<const Vertex> light_part =
+            sampled ? std::span<const Vertex>() : std::span<const Vertex>(sub->light).first(s);
+        const float w = mis_weight(b, light_part, s, std::span<const Vertex>(camera).first(t), t,
+                                   sampled, end);
+        EXPECT_TRUE(w >= 0.0f && w <= 1.0f) << path.name << ", s = " << s << ": " << w;
+        out.sum += w;
+        out.terms += (out.terms.empty() ? "" : ", ") + ("s=" + std::to_string(s)) + ": " +
+                     std::to_string(w);
+        ++out.strategies;
+    }
+    return out;
+}
+
+void expect_weights_sum_to_one(const Bidir& b, const std::vector<GivenPath>& paths) {
+    for (const GivenPath& path : paths) {
+        const WeightSum w = weights_of_every_strategy(b, path);
+        EXPECT_GE(w.strategies, 1) << path.name;
+        EXPECT_NEAR(w.sum, 1.0, 1e-5) << path.name << " (" << w.terms << ")";
+    }
+}
+
+// Two mirrors facing each other (x = -mirror_x facing +x, x = +mirror_x facing -x): the points
+// on them where light from a reaches b, first off the one at +x, then off the one at -x (by
+// image sources: b's image in the -x mirror, and that image's in the +x mirror).
+std::pair<Vec3, Vec3> two_mirror_bounce(const Vec3& a, const Vec3& b, float mirror_x) {
+    const Vec3 b2(-2.0f * mirror_x - b.x, b.y, b.z);   // b in the mirror at -x
+    const Vec3 b21(2.0f * mirror_x - b2.x, b2.y, b2.z);  // and that in the mirror at +x
+    const Vec3 m1 = a + (mirror_x - a.x) / (b21.x - a.x) * (b21 - a);
+    const Vec3 m2 = m1 + (-mirror_x - m1.x) / (b2.x - m1.x) * (b2 - m1);
+    return {m1, m2};
+}
+
+uint32_t add_material(Scene& scene, MaterialType type, const Color& albedo,
+                      const Color& emission = Color(0.0f), bool two_sided = false) {
+    Material m;
+    m.name = "m" + std::to_string(scene.materials().size());
+    m.type = type;
+    m.albedo.value = albedo;
+    m.reflectance = albedo;
+    m.specular = Color(0.5f);
+    m.roughness = 0.3f;
+    m.emission = emission;
+    m.two_sided = two_sided;
+    return scene.add_material(m);
+}
+
+}  // namespace
+
+TEST(Bidirectional, MisWeightsOfEveryStrategySumToOne) {
+    // The power heuristic's weights of one path, over the strategies that can make it, sum to 1
+    // (Veach 1997, eq. 9.4 and 10.9): the estimator is unbiased only then. Each path is made from
+    // both ends (subpaths_along), split at every s and weighed as connect() weighs it, in a room
+    // with every kind of light and vertex the weights treat apart: a one-sided rectangle (sampled
+    // by solid angle, also seen from near its plane), a sphere lamp, the back of a two-sided lamp,
+    // a point light, a lamp 1e8 times dimmer than the brightest, a glossy wall, two flat mirrors,
+    // a glass ball; then a uniform sky and an environment map with a sun; then a lamp seen
+    // directly, inside its image (the camera alone) and at its outline.
+    Scene scene;
+    const uint32_t floor = add_material(scene, MaterialType::Diffuse, Color(0.6f));
+    const uint32_t wall = add_material(scene, MaterialType::Glossy, Color(0.4f));
+    const uint32_t mirror = add_material(scene, MaterialType::Mirror, Color(0.9f));
+    const uint32_t glass = add_material(scene, MaterialType::Glass, Color(1.0f));
+    scene.add_quad(Quad(Vec3(-3, 0, -4), Vec3(0, 0, 7), Vec3(6, 0, 0)), floor);  // y = 0, up
+    scene.add_quad(Quad(Vec3(-3, 0, 2), Vec3(0, 3, 0), Vec3(6, 0, 0)), wall);    // z = 2, -z
+    scene.add_quad(Quad(Vec3(2.5f, 0, -2), Vec3(0, 0, 3.5f), Vec3(0, 2, 0)), mirror);  // -x
+    scene.add_quad(Quad(Vec3(-2.5f, 0, -2), Vec3(0, 2, 0), Vec3(0, 0, 3.5f)), mirror);  // +x
+    scene.add_sphere({Vec3(0.6f, 0.6f, 0.6f), 0.3f}, glass);
+    // The lamps: a ceiling rectangle facing down, a sphere, a two-sided square facing -x (and
+    // +x).
+    const uint32_t ceiling = add_material(scene, MaterialType::Diffuse, Color(0.0f), Color(5.0f));
+    const uint32_t globe = add_material(scene, MaterialType::Diffuse, Color(0.0f), Color(3.0f));
+    const uint32_t two_sided =
+        add_material(scene, MaterialType::Diffuse, Color(0.0f), Color(2.0f), true);
+    scene.add_quad(Quad(Vec3(-0.5f, 2, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1)), ceiling);
+    scene.add_sphere({Vec3(-1.2f, 0.5f, 0.8f), 0.2f}, globe);
+    scene.add_quad(Quad(Vec3(1.8f, 0.2f, 0), Vec3(0, 0, 0.6f), Vec3(0, 0.6f, 0)), two_sided);
+    scene.add_point_light({Vec3(-0.5f, 1.5f, 0), Color(2.0f)});
+    scene.width = 24;
+    scene.height = 16;
+    scene.camera = Camera(Vec3(0, 1.2f, -3), Vec3(0, 0.6f, 0.5f), Vec3(0, 1, 0), 60.0f, 1.5f);
+    scene.commit();
+    ASSERT_EQ(scene.area_lights().size(), 3u);
+    const LightSampler lights(scene);
+    const Bidir b{scene, lights, scene.camera, scene.width, scene.height};
+
+    const Vec3 down(0, -1, 0), ball(0.6f, 0.6f, 0.6f);
+    const Vec3 sphere_lamp(-1.2f, 0.5f, 0.8f);
+    const Vec3 toward_floor = glm::normalize(Vec3(-1.0f, 0, 0.2f) - sphere_lamp);
+    const Vec3 before_mirrors(-0.8f, 0, -1.8f), after_mirrors(1.0f, 1.0f, 2);
+    const auto [m1, m2] = two_mirror_bounce(before_mirrors, after_mirrors, 2.5f);
+    const Vec3 entry = ball + 0.3f * glm::normalize(Vec3(0.1f, 1, 0));
+    const Vec3 exit = ball + 0.3f * glm::normalize(Vec3(0.3f, -1, 0));
+    const Vec3 under_ball = exit + (-exit.y / -1.0f) * Vec3(0.3f, -1, 0);
+    // The point light's image in the mirror at x = -2.5, seen from the floor at (-1.5, 0, -0.5).
+    const Vec3 point(-0.5f, 1.5f, 0), image(-4.5f, 1.5f, 0), lit(-1.5f, 0, -0.5f);
+    const Vec3 on_mirror = lit + (1.0f / 3.0f) * (image - lit);
+    expect_weights_sum_to_one(
+        b, {{"rectangle, floor", on_area_light(scene, ceiling, Vec3(0.1f, 2, 0.05f), down),
+             {Vec3(0.2f, 0, -0.6f)}},
+            {"rectangle, floor, glossy wall", on_area_light(scene, ceiling, Vec3(-0.2f, 2, 0.1f), down),
+             {Vec3(-0.4f, 0, 0.3f), Vec3(0.3f, 0.9f, 2)}},
+            {"rectangle seen from near its plane",
+             on_area_light(scene, ceiling, Vec3(0.2f, 2, 0.4f), down), {Vec3(0.3f, 1.999f, 2)}},
+            {"rectangle, floor, wall near the lamp's plane, floor",
+             on_area_light(scene, ceiling, Vec3(0.2f, 2, 0.4f), down),
+             {Vec3(-0.3f, 0, 0.9f), Vec3(0.3f, 1.998f, 2), Vec3(0.1f, 0, -1.0f)}},
+            {"sphere lamp, floor",
+             on_area_light(scene, globe, sphere_lamp + 0.2f * toward_floor, toward_floor),
+             {Vec3(-1.0f, 0, 0.2f)}},
+            {"sphere lamp, floor, glossy wall",
+             on_area_light(scene, globe, sphere_lamp + 0.2f * toward_floor, toward_floor),
+             {Vec3(-1.0f, 0, 0.2f), Vec3(-0.6f, 1.1f, 2)}},
+            {"two-sided lamp, from its back",
+             on_area_light(scene, two_sided, Vec3(1.8f, 0.5f, 0.3f), Vec3(1, 0, 0)),
+             {Vec3(2.2f, 0, 0.0f)}},
+            {"two-sided lamp, from its front, floor, wall",
+             on_area_light(scene, two_sided, Vec3(1.8f, 0.5f, 0.3f), Vec3(-1, 0, 0)),
+             {Vec3(1.2f, 0, 0.4f), Vec3(0.9f, 1.0f, 2)}},
+            {"rectangle, floor, two flat mirrors, glossy wall",
+             on_area_light(scene, ceiling, Vec3(-0.3f, 2, -0.3f), down),
+             {before_mirrors, m1, m2, after_mirrors}},
+            {"rectangle, glass ball, floor (a caustic)",
+             on_area_light(scene, ceiling, Vec3(0.45f, 2, 0.45f), down), {entry, exit, under_ball}},
+            {"point light, floor", point_light_at(point), {Vec3(-0.3f, 0, -0.9f)}},
+            {"point light, floor, glossy wall", point_light_at(point),
+             {Vec3(-0.3f, 0, 0.2f), Vec3(-0.2f, 0.7f, 2)}},
+            {"point light, mirror, floor (only light tracing)", point_light_at(point),
+             {on_mirror, lit}},
+            {"point light seen directly", point_light_at(point), {}}});
+
+    // The sky: uniform, then a map with a sun 1e9 times its other texels, turned by 30 degrees.
+    for (const bool map : {false, true}) {
+        Scene open;
+        const uint32_t ground = add_material(open, MaterialType::Diffuse, Color(0.5f));
+        const uint32_t plate = add_material(open, MaterialType::Conductor, Color(0.5f));
+        open.add_quad(Quad(Vec3(-3, 0, -4), Vec3(0, 0, 7), Vec3(6, 0, 0)), ground);
+        open.add_quad(Quad(Vec3(-3, 0, 2), Vec3(0, 1, 0), Vec3(6, 0, 0)), plate);
+        open.add_quad(Quad(Vec3(-2.5f, 0, -2), Vec3(0, 1, 0), Vec3(0, 0, 3.5f)),
+                      add_material(open, MaterialType::Mirror, Color(0.9f)));
+        if (map) {  // the sun in the top row: every other row comes after it in the table
+            std::vector<Color> texels(16 * 8, Color(1e-9f));
+            texels[5] = Color(1.0f);
+            open.environment_map = std::make_shared<const EnvironmentMap>(16, 8, texels, 30.0f, 1.0f);
+        } else {
+            open.background = Color(0.5f);
+        }
+        open.width = 24;
+        open.height = 16;
+        open.camera = Camera(Vec3(0, 1.2f, -3), Vec3(0, 0.6f, 0.5f), Vec3(0, 1, 0), 60.0f, 1.5f);
+        open.commit();
+        const LightSampler sky_lights(open);
+        const Bidir sb{open, sky_lights, open.camera, open.width, open.height};
+        const Vec3 up_left = glm::normalize(Vec3(-1.0f, 0.4f, 0.3f));
+        const Vec3 lit_floor(-1.5f, 0, -0.5f);
+        const Vec3 seen_in_mirror = glm::normalize(Vec3(2.0f, 1.0f, 0.1f));  // from the mirror
+        const Vec3 on_plane = lit_floor + 0.5f * Vec3(-2.0f, 1.0f, 0.1f);     // x = -2.5
+        expect_weights_sum_to_one(
+            sb, {{"sky, ground", sky_towards(up_left), {Vec3(0.2f, 0, -0.6f)}},
+                 {"sky, ground, metal plate", sky_towards(up_left),
+                  {Vec3(0.1f, 0, 0.4f), Vec3(0.3f, 0.6f, 2)}},
+                 {"sky, mirror, ground", sky_towards(seen_in_mirror), {on_plane, lit_floor}},
+                 {"sky seen directly", sky_towards(Vec3(0.1f, 0.8f, 3)), {}}});
+    }
+
+    // A lamp after one 1e9 times brighter in the table the lights are chosen from (point lights
+    // come first): its share of the power, about 1e-10, is below a float's resolution near 1.
+    Scene pair;
+    pair.add_quad(Quad(Vec3(-3, 0, -4), Vec3(0, 0, 7), Vec3(6, 0, 0)),
+                  add_material(pair, MaterialType::Diffuse, Color(0.5f)));
+    pair.add_quad(Quad(Vec3(-3, 0, 2), Vec3(0, 3, 0), Vec3(6, 0, 0)),
+                  add_material(pair, MaterialType::Diffuse, Color(0.5f)));
+    const uint32_t faint = add_material(pair, MaterialType::Diffuse, Color(0.0f), Color(1.0f));
+    pair.add_quad(Quad(Vec3(-0.5f, 2, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1)), faint);
+    pair.add_point_light({Vec3(2, 1, 1), Color(1e9f)});
+    pair.width = 24;
+    pair.height = 16;
+    pair.camera = scene.camera;
+    pair.commit();
+    const LightSampler pair_lights(pair);
+    const Bidir pb{pair, pair_lights, pair.camera, pair.width, pair.height};
+    expect_weights_sum_to_one(
+        pb, {{"a faint lamp, floor", on_area_light(pair, faint, Vec3(0.1f, 2, 0.05f), down),
+              {Vec3(0.2f, 0, -0.6f)}},
+             {"a faint lamp, floor, wall", on_area_light(pair, faint, Vec3(0.1f, 2, 0.05f), down),
+              {Vec3(0.2f, 0, -0.6f), Vec3(-0.4f, 1.2f, 2)}}});
+
+    // A lamp seen directly (one segment): inside its image the camera alone (s = 0: 1, s = 1:
+    // 0, mis.h), at the outline the power heuristic.
+    const Scene facing = lamp_facing_the_camera(
+        "type = \"quad\"\ncorner = [-1.13, -0.71, 0]\nedge_u = [0, 1.37, 0]\nedge_v = [1.91, 0, 0]\n");
+    const LightSampler facing_lights(facing);
+    const Bidir fb{facing, facing_lights, facing.camera, facing.width, facing.height};
+    const Vec3 toward_camera(0, 0, -1);
+    for (const Vec3& p : {Vec3(0.1f, 0.1f, 0), Vec3(0.775f, 0.3f, 0)}) {
+        const GivenPath seen{"a lamp seen directly at " + std::to_string(p.x),
+                             on_area_light(facing, facing.area_lights()[0].material, p, toward_camera), {}};
+        const WeightSum w = weights_of_every_strategy(fb, seen);
+        EXPECT_EQ(w.strategies, 2) << seen.name;
+        EXPECT_NEAR(w.sum, 1.0, 1e-5) << seen.name << " (" << w.terms << ")";
+    }
+}
+
+TEST(Bidirectional, ALightThatIsAlmostNeverChosenKeepsItsLight) {
+    // A light whose share of the power is far below a float's resolution is still chosen now and
+    // then (sampling/discrete.h), and its light, found almost only by camera paths that hit it,
+    // keeps its whole weight (mis.cpp): lesson 5 agrees with lesson 4 pixel by pixel. Two cases:
+    //  - a faint lamp (power pi W) lighting a floor, listed after a point light 1e8 times more
+    //    powerful whose light never leaves the black ball around it;
+    //  - a dim sky, an environment map with a sun 1e9 times brighter than each other texel just
+    //    above the horizon (the texels after it in its row come after it in its column table),
+    //    the sun hidden by a black wall.
+    // Both lose nearly all of the dim light when a share rounded to 0 is weighed as if it could
+    // be sampled (measured: lesson 5's mean 0.3% of lesson 4's on the faint lamp).
+    for (const bool sky : {false, true}) {
+        Scene scene;
+        Material floor, black, lamp;
+        floor.name = "floor";
+        floor.albedo.value = Color(0.5f);
+        black.name = "black";
+        black.albedo.value = Color(0.0f);
+        lamp.name = "lamp";
+        lamp.albedo.value = Color(0.0f);
+        lamp.emission = Color(1.0f);
+        const uint32_t f = scene.add_material(floor), k = scene.add_material(black);
+        scene.add_quad(Quad(Vec3(-4, 0, -4), Vec3(0, 0, 8), Vec3(8, 0, 0)), f);
+        scene.add_sphere({Vec3(0, 0.5f, 0), 0.5f}, f);
+        if (sky) {
+            // The sun at texel (5, 3): just above the horizon, phi from 112.5 to 135 degrees; the
+            // texels after it in its row (phi 135 to 360) have shares of 1e-9 each.
+            std::vector<Color> texels(16 * 8, Color(1.0f));
+            texels[3 * 16 + 5] = Color(1e9f);
+            scene.environment_map =
+                std::make_shared<const EnvironmentMap>(16, 8, texels, 0.0f, 1.0f);
+            // A black wall 15 m away across the sun's directions, wide and high enough to hide
+            // it from every point of the floor.
+            const float phi = 123.75f * kPi / 180.0f;
+            const Vec3 across(-std::sin(phi), 0, std::cos(phi));
+            const Vec3 centre = 15.0f * Vec3(std::cos(phi), 0, std::sin(phi));
+            scene.add_quad(Quad(centre - 9.0f * across - Vec3(0, 1, 0), 18.0f * across,
+                                Vec3(0, 11, 0)),
+                           k);
+        } else {
+            scene.add_quad(Quad(Vec3(-1, 2, -1.5f), Vec3(1, 0, 0), Vec3(0, 0, 1)),
+                           scene.add_material(lamp));
+            scene.add_point_light({Vec3(2.5f, 0.5f, 2.5f), Color(1e8f / 4.0f)});
+            scene.add_sphere({Vec3(2.5f, 0.5f, 2.5f), 0.2f}, k);
+        }
+        scene.width = scene.height = 12;
+        scene.camera = Camera(Vec3(0, 1.5f, -4), Vec3(0, 0.4f, 0), Vec3(0, 1, 0), 45.0f, 1.0f);
+        scene.commit();
+        const RenderResult five = render_lesson5(scene, {}, 1024, 61);
+        const RenderResult four = render_lesson4(scene, {}, 2048, 62);
+        const auto [passed, tested] = channels_that_agree(five, four);
+        EXPECT_GE(passed, 0.9975 * tested) << passed << " of " << tested << (sky ? " (sky)" : "");
+        const auto [m5, v5] = image_mean(five.image, five.variance);
+        const auto [m4, v4] = image_mean(four.image, four.variance);
+        EXPECT_GT(m4, 0.01) << (sky ? "sky" : "lamp");  // the dim light is what the image shows
+        EXPECT_LT(z_score(m5, v5, m4, v4), test::z_quantile(kSignificance))
+            << m5 << " vs " << m4 << (sky ? " (sky)" : " (lamp)");
+        EXPECT_EQ(five.nan_samples + five.inf_samples, 0u);
+    }
+}
+
+TEST(Bidirectional, APointLightSeenDirectlyIsItsIntensityOverTheFilmAreaOfItsPixel) {
+    // Only strategy (1, 1) can draw a point light seen directly: the light subpath's first vertex
+    // joined to the camera. Its pixel gets W I / d^2 with the camera's importance W = 1 /
+    // (A_pixel cos^3 theta) (camera.h; A_pixel the film's area per pixel at distance 1), exactly
+    // (the only light is always chosen and always lands there); every other pixel gets nothing.
+    // On a film whose aspect is not 1, the light off its axis, with the whole estimator and
+    // with light tracing alone.
+    const float I = 3.0f;
+    Scene scene;
+    const Vec3 light(0.7f, -0.4f, 3.0f);
+    scene.add_point_light({light, Color(I)});
+    scene.width = 40;
+    scene.height = 24;
+    scene.camera = Camera(Vec3(0.1f, 0, 0), Vec3(0.1f, 0, 1), Vec3(0, 1, 0), 50.0f, 40.0f / 24.0f);
+    scene.commit();
+    const Vec3 to_light = light - scene.camera.position();
+    const double d2 = glm::dot(to_light, to_light);
+    const Vec3 dir = glm::normalize(to_light);
+    const double cos_theta = glm::dot(dir, scene.camera.forward());
+    const double a_pixel = scene.camera.image_plane_area() / (40.0 * 24.0);
+    const double expected = I / (d2 * a_pixel * cos_theta * cos_theta * cos_theta);
+    const Vec2 raster = *scene.camera.raster_position(dir, 40, 24);
+    const size_t lit = static_cast<size_t>(raster.y) * 40 + static_cast<size_t>(raster.x);
+    for (const bool alone : {false, true}) {
+        BidirOptions options;
+        options.light_tracing = alone;
+        options.strategy_layers = alone ? 0 : 1;
+        const RenderResult r = render_lesson5(scene, options, 4, 71);
+        for (size_t k = 0; k < r.image.pixels.size(); ++k) {
+            const double v = r.image.pixels[k].x;
+            if (k == lit)
+                EXPECT_NEAR(v, expected, 1e-5 * expected) << (alone ? "light tracing" : "bdpt");
+            else
+                EXPECT_EQ(v, 0.0) << "pixel " << k;
+        }
+        if (!alone) {  // the layer of strategy (1, 1) holds all of it
+            ASSERT_EQ(r.layers.size(), 3u);
+            EXPECT_EQ(r.layers[1].pixels[lit].x, r.image.pixels[lit].x);
+        }
     }
 }

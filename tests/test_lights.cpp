@@ -324,6 +324,70 @@ std::shared_ptr<const EnvironmentMap> test_map(float rotate) {
 }
 }  // namespace
 
+TEST(Lights, EveryLightOfPositivePowerCanBeChosen) {
+    // Beside a light 1e8 times more powerful, listed before it (point lights come first), a lamp
+    // keeps a positive choice probability (sampling/discrete.h), and the light sampler's density
+    // for it is that probability over its area, the same number the emission sampler uses; so
+    // are two quads of powers 1e8 and 1, whichever the table lists first.
+    for (const bool point_first : {true, false}) {
+        Scene scene;
+        Material faint, bright;
+        faint.name = "faint";
+        faint.emission = Color(1.0f);
+        bright.name = "bright";
+        bright.emission = Color(1e8f);
+        const uint32_t f = scene.add_material(faint), b = scene.add_material(bright);
+        scene.add_quad(Quad(Vec3(-0.5f, 2, -0.5f), Vec3(1, 0, 0), Vec3(0, 0, 1)), f);  // down
+        if (point_first)
+            scene.add_point_light({Vec3(0, -5, 0), Color(1e8f / (4.0f * kPi) * kPi)});
+        else
+            scene.add_quad(Quad(Vec3(3, 2, -0.5f), Vec3(0, 0, 1), Vec3(1, 0, 0)), b);  // up
+        scene.commit();
+        const LightSampler sampler(scene);
+        double total = 0.0;
+        for (const AreaLight& light : scene.area_lights()) {
+            const auto pdf = sampler.emission_pdf(light.prim, light.normal, light.normal);
+            EXPECT_GT(pdf.area, 0.0f) << light.material;
+            total += pdf.area * light.area;
+            // The light sample's density for a point of it, seen from 1 m in front.
+            const Vec3 q = light.center;
+            EXPECT_GT(sampler.pdf(q + light.normal, light.prim, q, light.normal), 0.0f)
+                << light.material;
+        }
+        for (uint32_t i = 0; i < scene.point_lights().size(); ++i)
+            total += sampler.point_emission_pdf(i).area;
+        EXPECT_EQ(total, 1.0);  // the choices add up to 1 exactly (multiples of 2^-24)
+    }
+}
+
+TEST(Lights, ASunOfABillionTimesTheRestLeavesEveryTexelADensity) {
+    // Every texel of positive radiance keeps a positive density however bright a sun beside it
+    // (sampling/discrete.h), and the density still integrates to 1: the sun in the top row (so
+    // that every other row comes after it in the row table), and in a middle row.
+    for (const int sun_row : {0, 4}) {
+        const int w = 16, h = 8;
+        std::vector<Color> texels(w * h, Color(1.0f));
+        texels[sun_row * w + 5] = Color(1e9f);
+        const EnvironmentMap map(w, h, texels, 0.0f, 1.0f);
+        double integral = 0.0;  // the density is constant over each texel's patch
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                const double theta = kPi * (j + 0.5) / h, phi = 2.0 * kPi * (i + 0.5) / w;
+                const Vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta),
+                             std::sin(theta) * std::sin(phi));
+                const double p = map.pdf(d);
+                EXPECT_GT(p, 0.0) << "texel " << i << ", " << j;
+                const double solid_angle =
+                    2.0 * kPi / w * (std::cos(kPi * j / h) - std::cos(kPi * (j + 1) / h));
+                // p is P(texel) W H / (2 pi^2 sin(theta_centre)): exact per patch with the sine
+                // at the centre, as the map weighs it.
+                integral += p * solid_angle * std::sin(theta) /
+                            ((std::cos(kPi * j / h) - std::cos(kPi * (j + 1) / h)) * h / kPi);
+            }
+        EXPECT_NEAR(integral, 1.0, 1e-5) << "sun in row " << sun_row;
+    }
+}
+
 TEST(Lights, EnvironmentMapDirectionsMatchTheirDensity) {
     Scene scene;
     scene.environment_map = test_map(30.0f);

@@ -2,6 +2,7 @@
 // outputs at the ends of [0, 1).
 #include <gtest/gtest.h>
 
+#include "sampling/discrete.h"
 #include "sampling/rng.h"
 #include "sampling/sampling.h"
 #include "statistics.h"
@@ -221,4 +222,46 @@ TEST(Sampling, SphericalRectangleDirectionsAreUniformInSolidAngle) {
         EXPECT_TRUE(r.passed) << o.x << " " << o.y << " " << o.z << ": " << r.report;
         EXPECT_NEAR(r.pdf_integral, 1.0, 5e-3);
     }
+}
+
+TEST(Sampling, ChoiceTablesGiveEveryPositiveWeightAnExactPositiveProbability) {
+    // The table a light or a texel is chosen from (sampling/discrete.h): on the grid of the
+    // uniform numbers, so that the probability the estimators divide by is the probability the
+    // sampler realises, counted here over every one of the 2^24 values of u; no entry of
+    // positive weight at 0, however small its share; no entry of zero weight above 0; and each
+    // share within a few units of 2^-24 of its weight's share.
+    const std::vector<std::vector<double>> cases = {
+        {1e8, 1.0}, {1.0, 1e8}, {0.0, 3.0, 0.0, 1e-12, 5.0, 0.0}, {2.0}, {0.0, 0.0, 0.0},
+        {1e9, 1.0, 1.0, 1.0, 1e-3, 1e9}, {1.0, 2.0, 3.0, 4.0}};
+    for (const std::vector<double>& weights : cases) {
+        const std::vector<float> cdf = choice_cdf(weights);
+        ASSERT_EQ(cdf.size(), weights.size());
+        EXPECT_EQ(cdf.back(), 1.0f);
+        double total = 0.0;
+        size_t positive = 0;
+        for (double w : weights) {
+            total += w;
+            positive += w > 0.0;
+        }
+        std::vector<uint32_t> count(weights.size(), 0);
+        for (uint32_t k = 0; k < (1u << 24); ++k) ++count[choose_entry(cdf, k * 0x1p-24f)];
+        for (size_t i = 0; i < weights.size(); ++i) {
+            const float p = entry_probability(cdf, i);
+            EXPECT_EQ(static_cast<double>(count[i]) * 0x1p-24, p) << "entry " << i;
+            if (total > 0.0) {
+                EXPECT_EQ(p > 0.0f, weights[i] > 0.0) << "entry " << i << " of weight " << weights[i];
+                EXPECT_NEAR(p, weights[i] / total, (positive + 1) * 0x1p-24) << "entry " << i;
+            } else {
+                EXPECT_NEAR(p, 1.0 / weights.size(), 0x1p-24);  // nothing to weigh by: uniform
+            }
+        }
+    }
+    // The rest of u within the chosen entry is uniform again: the interval's ends map to 0 and
+    // to just below 1.
+    const std::vector<float> cdf = choice_cdf(std::vector<double>{1.0, 3.0});
+    float rest = -1.0f;
+    EXPECT_EQ(choose_entry(cdf, 0.25f, &rest), 1u);
+    EXPECT_EQ(rest, 0.0f);
+    EXPECT_EQ(choose_entry(cdf, 0.25f - 0x1p-24f, &rest), 0u);
+    EXPECT_EQ(rest, (0.25f - 0x1p-24f) / 0.25f);
 }

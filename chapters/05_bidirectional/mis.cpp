@@ -15,12 +15,12 @@ struct VertexDensities {
     bool delta = false;
 };
 
-// A density of 0 belongs to a delta choice here (the strategies that would need it are left out
-// by the delta flags), and counts as 1 in the ratios (pbrt's remap0). The one other zero, a light
-// the sampler never chooses (its power is not finite), would count as 1 too: such a scene is
-// refused long before (scene files bound every emission and size).
-double nonzero(double pdf) {
-    return pdf != 0.0 ? pdf : 1.0;
+// A density at a vertex the current strategy made itself, as a divisor: never 0 there (it made
+// the vertex), but a density rounded to 0 must not divide (taken as 1, as pbrt's remap0). Every
+// other density of 0 means what it says: the strategy that needs it cannot make the path, and
+// leaves the sum (a light the sampler never chooses, the back of a one-sided lamp).
+double divisor(double pdf) {
+    return pdf > 0.0 ? pdf : 1.0;
 }
 
 // |cos| at vertex v of the segment towards w (1 at a point: the camera, a point light).
@@ -43,7 +43,13 @@ void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) 
         int j = i;
         while (j + 1 < n - 1 && d[j + 1].delta) ++j;
         const Vertex &before = x(i - 1), &after = x(j + 1);
-        if (!before.infinite) {
+        if (before.infinite) {
+            // The sky beyond the chain: a camera path reaches it by the direction it samples at
+            // x_{j+1}, which the chain turns but does not spread (per steradian, as the sky's
+            // densities are). No light subpath starts there (its density stays 0).
+            const double d_last = glm::length(after.p - x(j).p);
+            d[i - 1].from_camera = d[j].from_camera * d_last * d_last / abs_cos(x(j), after);
+        } else {
             double unfolded = 0.0;
             for (int k = i - 1; k <= j; ++k) unfolded += glm::length(x(k + 1).p - x(k).p);
             // p at x_{i-1} from x_i's density, and p at x_{j+1} from x_j's, back to solid angle.
@@ -115,33 +121,36 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     if (q) d[s - 1].delta = false;
     through_delta_chains(x, n, d);
 
-    // The light sample (s = 1, t >= 2) picks x_0 with its own density, not the light subpath's
-    // start: strategy 1 has it in place of p_L(x_0), and the ratios between strategies 0, 1 and 2
-    // swap it in and out.
-    const double sampled_x0 = n >= 3 ? nonzero(x(0).pdf_light_sample) : nonzero(d[0].from_light);
-    const double started_x0 = nonzero(d[0].from_light);
-    auto from_light = [&](int i, int strategy) {
-        return i == 0 && strategy == 1 ? sampled_x0 : nonzero(d[i].from_light);
-    };
-
+    // x_0 is made differently by different strategies (Veach 1997, 10.2.2): strategy 0's camera
+    // path hits it (no camera path hits a point light: 0); strategy 1's light sample picks it
+    // (lesson 3's density, by solid angle where it can; for a lamp seen directly, n = 2,
+    // strategy 1 is light tracing and starts there); every other strategy starts its light
+    // subpath there (the sky starts none: 0).
     const bool sky = x(0).infinite, point_light = x(0).point_light;
+    const double hit = point_light ? 0.0 : d[0].from_camera;
+    const double started = sky ? 0.0 : d[0].from_light;
+    const double sampled = n >= 3 ? x(0).pdf_light_sample : started;
+    auto x0_density = [&](int strategy) {
+        return strategy == 0 ? hit : strategy == 1 ? sampled : started;
+    };
+    // p_k / p_s = (x_0's density in strategy k / in s) times the ratio of the rest, m, which
+    // changes by p_L(x_i) / p_C(x_i) as the join moves past x_i (i >= 1) towards the camera,
+    // and back as it moves towards the light. A zero on the way makes every strategy beyond it
+    // impossible, and its ratio 0. Strategies that would join at a mirror or glass have no
+    // density to meet and are left out.
+    const double own_x0 = divisor(x0_density(s));
     double sum = 0.0;
-    // Strategies with the join nearer the camera: x_{k-1} made from the light side instead.
-    double ratio = 1.0;
-    for (int k = s + 1; k < n; ++k) {
-        ratio *= from_light(k - 1, k) / nonzero(d[k - 1].from_camera);
-        if (k == 2) ratio *= started_x0 / sampled_x0;  // x_0: a light sample no longer
-        // The sky starts no light subpaths: only a light sample (s = 1, t >= 2) finds it.
-        if (sky && (k >= 2 || k == n - 1)) break;
+    double m = 1.0;
+    for (int k = s + 1; k < n; ++k) {  // the join nearer the camera: x_{k-1} from the light
+        if (k >= 2) m *= d[k - 1].from_light / divisor(d[k - 1].from_camera);
+        const double ratio = x0_density(k) / own_x0 * m;
         if (!d[k - 1].delta && !d[k].delta) sum += ratio * ratio;
     }
-    // Strategies with the join nearer the light: x_k made from the camera side instead.
-    ratio = 1.0;
-    for (int k = s - 1; k >= 0; --k) {
-        ratio *= nonzero(d[k].from_camera) / from_light(k, k + 1);
-        if (k == 1) ratio *= sampled_x0 / started_x0;  // x_0: now from a light sample
-        const bool joins = k == 0 ? !point_light : !d[k - 1].delta && !d[k].delta;
-        if (joins) sum += ratio * ratio;
+    m = 1.0;
+    for (int k = s - 1; k >= 0; --k) {  // the join nearer the light: x_k from the camera
+        if (k >= 1) m *= d[k].from_camera / divisor(d[k].from_light);
+        const double ratio = x0_density(k) / own_x0 * m;
+        if (k == 0 || (!d[k - 1].delta && !d[k].delta)) sum += ratio * ratio;
     }
     return static_cast<float>(1.0 / (1.0 + sum));
 }

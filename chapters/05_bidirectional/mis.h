@@ -13,11 +13,13 @@
 // the join itself; they are computed here, the rest were stored as the subpaths were traced.
 //
 // Left out of the sum: strategies that would join a segment at a mirror or glass (a delta BSDF
-// has no density to meet), s = 0 for a point light (no camera path hits a point), and for the
-// environment, which starts no light subpaths, all but s = 0 and the light sample (s = 1,
-// t >= 2). A delta choice (mirror, glass) is the same
-// from both sides, so its densities are left out of every ratio (taken as 1), and the vertices on
-// either side of a chain of them get the densities of the whole chain's unfolded length. The
+// has no density to meet), and every strategy whose density is 0, which cannot make the path:
+// s = 0 for a point light (no camera path hits a point), s >= 2 and light tracing for the
+// environment (it starts no light subpaths), and any strategy that needs a light the sampler
+// never chooses or light leaving the back of a one-sided lamp. A delta choice (mirror, glass)
+// is the same from both sides, so its densities are left out of every ratio (taken as 1), and
+// the vertices on either side of a chain of them get the densities of the whole chain's
+// unfolded length (exact for flat mirrors only: see through_delta_chains in mis.cpp). The
 // light sample (s = 1) picks x_0 by lesson 3's density (by solid angle where it can), the light
 // subpath by the light's area: each strategy's ratio uses its own.
 #pragma once

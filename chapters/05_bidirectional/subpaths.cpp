@@ -75,7 +75,8 @@ namespace {
 // Light arrives at v from si.wo and leaves along w. With a shading normal n_s other than the
 // geometric n_g, f |w . n_s| (what the camera side uses) is not its own adjoint; the light side
 // needs f |wo . n_s| |w . n_g| / |wo . n_g| instead: this factor times |w . n_s|.
-float adjoint_shading_correction(const Vertex& v, const Vec3& w) {
+float adjoint_shading_correction(const Bidir& b, const Vertex& v, const Vec3& w) {
+    if (b.scene.naive.no_adjoint_correction) return 1.0f;  // --naive adjoint: to see it fail
     const Vec3& wo = v.si.wo;
     const float num = v.bsdf->abs_cos(wo) * std::fabs(glm::dot(w, v.si.n_geo));
     const float den = std::fabs(glm::dot(wo, v.si.n_geo)) * v.bsdf->abs_cos(w);
@@ -84,8 +85,8 @@ float adjoint_shading_correction(const Vertex& v, const Vec3& w) {
 
 }  // namespace
 
-Color light_side_bsdf(const Vertex& v, const Vec3& w) {
-    return v.bsdf->eval(v.si.wo, w) * adjoint_shading_correction(v, w);
+Color light_side_bsdf(const Bidir& b, const Vertex& v, const Vec3& w) {
+    return v.bsdf->eval(v.si.wo, w) * adjoint_shading_correction(b, v, w);
 }
 
 namespace {
@@ -93,9 +94,11 @@ namespace {
 // Extends a subpath whose last vertex sent `ray` with solid-angle density pdf_dir and
 // throughput beta: lesson 4's loop, keeping every vertex and both of its densities. Light
 // subpaths carry importance through glass (Transport::Importance) and the shading-normal
-// correction; camera subpaths carry radiance.
-void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_vertices,
-                 int roulette_after, Transport transport, std::vector<Vertex>& path) {
+// correction; camera subpaths carry radiance. `scatter(vertex)` picks the next direction: the
+// BSDF's sample in the lesson's walks (and the path given to subpaths_along, below).
+template <class Scatter>
+void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_vertices,
+          int roulette_after, Transport transport, std::vector<Vertex>& path, Scatter&& scatter) {
     const Color beta_start = beta;
     for (int bounce = 0; static_cast<int>(path.size()) < max_vertices; ++bounce) {
         const std::optional<Hit> hit = b.scene.intersect(ray);
@@ -128,11 +131,10 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
         Vertex& before = path[path.size() - 2];
         if (static_cast<int>(path.size()) >= max_vertices) return;
 
-        const std::optional<BsdfSample> s =
-            here.bsdf->sample(here.si.wo, rng.uniform2(), transport);
+        const std::optional<BsdfSample> s = scatter(here);
         if (!s) return;
         Color weight = s->f * here.bsdf->abs_cos(s->wi) / s->pdf;  // f cos / p, as in lesson 4
-        if (transport == Transport::Importance) weight *= adjoint_shading_correction(here, s->wi);
+        if (transport == Transport::Importance) weight *= adjoint_shading_correction(b, here, s->wi);
         // The density of the way back: `before` sampled from here, given the new direction.
         float pdf_back = here.bsdf->pdf(s->wi, here.si.wo);
         float pdf_next = s->pdf;
@@ -153,6 +155,13 @@ void random_walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, i
         pdf_dir = pdf_next;
         ray = spawn_ray(here.si.surface_point(), s->wi);
     }
+}
+
+void random_walk(const Bidir& b, const Ray& ray, Color beta, float pdf_dir, Rng& rng,
+                 int max_vertices, int roulette_after, Transport transport,
+                 std::vector<Vertex>& path) {
+    walk(b, ray, beta, pdf_dir, rng, max_vertices, roulette_after, transport, path,
+         [&](const Vertex& v) { return v.bsdf->sample(v.si.wo, rng.uniform2(), transport); });
 }
 
 }  // namespace
@@ -192,6 +201,108 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
     random_walk(b, e->ray, light.beta * (cos_q / e->pdf_dir), e->pdf_dir, rng, max_vertices,
                 roulette_after, Transport::Importance, path);
     if (path.size() >= 2) path[0].pdf_light_sample = light_sample_density(b, path[0], path[1]);
+}
+
+namespace {
+
+// The direction a given path takes at v towards `next` (a point, or the sky's direction), as if
+// the BSDF had sampled it: its density (a delta choice's, 1), and a throughput that stays
+// positive (the weights read densities only).
+std::optional<BsdfSample> towards(const Vertex& v, const Vertex& next) {
+    const Vec3 wi = direction(v, next);
+    if (v.bsdf->is_delta()) return BsdfSample{wi, Color(1.0f), 1.0f, true};
+    const float pdf = v.bsdf->pdf(v.si.wo, wi);
+    if (!(pdf > 0.0f)) return std::nullopt;
+    return BsdfSample{wi, Color(pdf / std::max(v.bsdf->abs_cos(wi), 1e-6f)), pdf, false};
+}
+
+}  // namespace
+
+std::optional<GivenSubpaths> subpaths_along(const Bidir& b, const Vertex& light,
+                                            std::span<const Vec3> points, std::string* why) {
+    auto fail = [&](const std::string& reason) -> std::optional<GivenSubpaths> {
+        if (why) *why = reason;
+        return std::nullopt;
+    };
+    auto near = [](const Vec3& a, const Vec3& c) {
+        return glm::length(a - c) <= 1e-4f * (1.0f + glm::length(c));
+    };
+    GivenSubpaths out;
+    Rng unused(0);
+    // The camera subpath: from the pinhole to x_{n-2}, x_{n-3}, ..., x_1, then the light.
+    Vertex camera;
+    camera.type = VertexType::Camera;
+    camera.p = b.camera.position();
+    camera.beta = Color(1.0f);
+    out.camera.push_back(camera);
+    const size_t m = points.size();
+    auto camera_target = [&](size_t k) {  // the k-th vertex after the camera's
+        Vertex v = light;
+        if (k < m) {
+            v = Vertex{};
+            v.p = points[m - 1 - k];
+        }
+        return v;
+    };
+    const Vec3 first = direction(camera, camera_target(0));
+    const size_t camera_vertices = m + (light.point_light ? 1 : 2);
+    size_t aimed = 0;
+    walk(b, Ray{camera.p, first}, Color(1.0f), b.camera.importance(first), unused,
+         static_cast<int>(camera_vertices), -1, Transport::Radiance, out.camera,
+         [&](const Vertex& v) -> std::optional<BsdfSample> {
+             if (++aimed >= camera_vertices - 1) return std::nullopt;
+             return towards(v, camera_target(aimed));
+         });
+    if (out.camera.size() != camera_vertices)
+        return fail("the camera subpath ends after " + std::to_string(out.camera.size()) +
+                    " of its " + std::to_string(camera_vertices) + " vertices");
+    for (size_t k = 0; k < m; ++k)
+        if (!near(out.camera[1 + k].p, camera_target(k).p))
+            return fail("the camera subpath's vertex " + std::to_string(1 + k) +
+                        " misses its point (blocked)");
+    if (!light.point_light) {  // the camera subpath ends on the light
+        const Vertex& end = out.camera.back();
+        if (light.infinite ? !end.infinite
+                           : end.primitive() != light.emitter || !near(end.p, light.p))
+            return fail("the camera subpath does not end on the light");
+    }
+    if (light.infinite) return out;  // the sky starts no light subpath
+
+    // The light subpath: from the light to x_1, ..., x_{n-2}, through the same points.
+    Vertex y0 = light;
+    y0.type = VertexType::Light;
+    y0.beta = Color(1.0f);
+    float pdf_dir = 0.0f;
+    const Vec3 w = direction(y0, m > 0 ? camera_target(m - 1) : out.camera[0]);
+    if (light.point_light) {
+        const auto& points_lights = b.scene.point_lights();
+        for (uint32_t i = 0; i < points_lights.size(); ++i)
+            if (points_lights[i].position == light.p)
+                y0.pdf_fwd = b.lights.point_emission_pdf(i).area;
+        pdf_dir = uniform_sphere_pdf();
+    } else {
+        y0.pdf_fwd = light_origin_density(b, y0);
+        if (light.emitter) pdf_dir = b.lights.emission_pdf(*light.emitter, y0.n, w).dir;
+    }
+    if (!(pdf_dir > 0.0f)) return fail("the light does not send light towards x_1");
+    out.light.push_back(y0);
+    if (m == 0) return out;  // a light seen directly: the light subpath is y_0 alone
+    size_t next = 0;
+    walk(b, spawn_ray(y0.surface_point(), w), Color(1.0f), pdf_dir, unused,
+         static_cast<int>(m + 1), -1, Transport::Importance, out.light,
+         [&](const Vertex& v) -> std::optional<BsdfSample> {
+             if (++next >= m) return std::nullopt;
+             return towards(v, camera_target(m - 1 - next));
+         });
+    if (out.light.size() != m + 1)
+        return fail("the light subpath ends after " + std::to_string(out.light.size()) +
+                    " of its " + std::to_string(m + 1) + " vertices");
+    for (size_t i = 1; i <= m; ++i)
+        if (!near(out.light[i].p, points[i - 1]))
+            return fail("the light subpath's vertex " + std::to_string(i) +
+                        " misses its point (blocked)");
+    out.light[0].pdf_light_sample = light_sample_density(b, out.light[0], out.light[1]);
+    return out;
 }
 
 }  // namespace lessons

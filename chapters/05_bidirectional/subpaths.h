@@ -11,6 +11,8 @@
 #pragma once
 
 #include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "lights/lights.h"
@@ -99,9 +101,26 @@ void camera_subpath(const Bidir& b, const Ray& ray, Rng& rng, int max_vertices, 
 void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_after,
                    std::vector<Vertex>& path);
 
+// Both subpaths of one given path x_0 ... x_{n-1}, made vertex by vertex as the walks above make
+// them, but with each direction pointing at the next vertex instead of sampled (with the density
+// the BSDF would have sampled it with), so that a strategy's weights can be checked against all
+// the others' on the same path (tests/test_bidirectional.cpp). `light` is x_0: a light vertex
+// (p and n, its emitting side's normal, and emitter; or point_light and p; or infinite and p,
+// the direction towards the sky); `points` are x_1 .. x_{n-2}, each where a ray from the vertex
+// before meets the scene first; x_{n-1} is the camera. The camera subpath goes from the camera
+// to x_0 (to x_1 for a point light, which no camera path reaches), the light subpath from x_0 to
+// x_{n-2} (none for the sky; its y_0.pdf_fwd is 0 if the light is never chosen). Nothing if some
+// segment is blocked, or a direction has density 0 (then `why` says which).
+struct GivenSubpaths {
+    std::vector<Vertex> light, camera;
+};
+std::optional<GivenSubpaths> subpaths_along(const Bidir& b, const Vertex& light,
+                                            std::span<const Vec3> points,
+                                            std::string* why = nullptr);
+
 // The BSDF of a light-subpath vertex towards w, as light arriving from si.wo and leaving along w
 // sees it: f, with the correction that interpolated shading normals need on this side (the
 // adjoint of a shading-normal BSDF is not the same BSDF: Veach 1997, 5.3).
-Color light_side_bsdf(const Vertex& v, const Vec3& w);
+Color light_side_bsdf(const Bidir& b, const Vertex& v, const Vec3& w);
 
 }  // namespace lessons

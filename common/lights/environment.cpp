@@ -5,22 +5,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sampling/discrete.h"
+
 namespace lessons {
 
 namespace {
 constexpr double kPiD = 3.14159265358979323846;
-
-// The index of the first entry of cdf[begin, begin + n) above u, and u rescaled to [0, 1)
-// within that entry's interval.
-size_t pick(const std::vector<float>& cdf, size_t begin, size_t n, float u, float& rest) {
-    const auto first = cdf.begin() + static_cast<std::ptrdiff_t>(begin);
-    size_t k = static_cast<size_t>(
-        std::upper_bound(first, first + static_cast<std::ptrdiff_t>(n), u) - first);
-    k = std::min(k, n - 1);
-    const float lo = k > 0 ? cdf[begin + k - 1] : 0.0f, hi = cdf[begin + k];
-    rest = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
-    return k;
-}
 }  // namespace
 
 EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
@@ -59,31 +49,23 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
             "the map sends no light (every texel is black): its total "
             "power is zero");
     mean_ = Color(integral / (4.0 * kPiD));
+    // A row by its weight, then a column of it (sampling/discrete.h: every texel of positive
+    // weight keeps a positive probability, however bright a sun beside it).
     probability_.resize(texels_.size());
     column_cdf_.resize(texels_.size());
-    row_cdf_.resize(height_);
-    double rows = 0.0;
+    std::vector<double> rows(height_);
     for (int j = 0; j < height_; ++j) {
-        double row = 0.0;
-        for (int i = 0; i < width_; ++i) row += weight[static_cast<size_t>(j) * width_ + i];
-        double running = 0.0;
-        for (int i = 0; i < width_; ++i) {
-            const size_t k = static_cast<size_t>(j) * width_ + i;
-            running += weight[k];
-            column_cdf_[k] = row > 0.0 ? static_cast<float>(running / row) : float(i + 1) / width_;
-        }
-        column_cdf_[static_cast<size_t>(j) * width_ + width_ - 1] = 1.0f;
-        rows += row;
-        row_cdf_[j] = static_cast<float>(rows / total);
+        const std::span<const double> row(weight.data() + static_cast<size_t>(j) * width_,
+                                          static_cast<size_t>(width_));
+        for (double w : row) rows[j] += w;
+        build_choice_cdf(row, columns(j));
     }
-    row_cdf_.back() = 1.0f;
-    // Each texel's probability as the sampler realises it: from the same (float) CDFs.
+    row_cdf_ = choice_cdf(rows);
+    // Each texel's probability as the sampler realises it: from the same CDFs.
     for (int j = 0; j < height_; ++j) {
-        const float row = row_cdf_[j] - (j > 0 ? row_cdf_[j - 1] : 0.0f);
-        for (int i = 0; i < width_; ++i) {
-            const size_t k = static_cast<size_t>(j) * width_ + i;
-            probability_[k] = row * (column_cdf_[k] - (i > 0 ? column_cdf_[k - 1] : 0.0f));
-        }
+        const float row = entry_probability(row_cdf_, j);
+        for (int i = 0; i < width_; ++i)
+            probability_[static_cast<size_t>(j) * width_ + i] = row * entry_probability(columns(j), i);
     }
 }
 
@@ -107,8 +89,8 @@ size_t EnvironmentMap::texel_of(const Vec3& d) const {
 
 std::optional<EnvironmentMap::Sample> EnvironmentMap::sample(const Vec2& u) const {
     float du = 0.0f, dv = 0.0f;
-    const size_t j = pick(row_cdf_, 0, static_cast<size_t>(height_), u.y, dv);
-    const size_t i = pick(column_cdf_, j * width_, static_cast<size_t>(width_), u.x, du);
+    const size_t j = choose_entry(row_cdf_, u.y, &dv);
+    const size_t i = choose_entry(columns(static_cast<int>(j)), u.x, &du);
     const Vec3 dir =
         direction((static_cast<float>(i) + du) / width_, (static_cast<float>(j) + dv) / height_);
     // The density and radiance of the direction as made (rounding may put it across a texel's

@@ -11,11 +11,13 @@
 //
 // Sampling: a texel with probability proportional to its luminance times sin(theta) at its
 // row's centre (the solid angle its patch covers, up to a constant), then a point uniform in
-// (u, v) within it. A patch of du dv covers 2 pi^2 sin(theta) du dv steradians, so the
+// (u, v) within it (a row by its weight, then a column of it: no texel of positive weight is
+// chosen less often than 2^-48, sampling/discrete.h). A patch of du dv covers 2 pi^2 sin(theta) du dv steradians, so the
 // density per unit solid angle is  p = P(texel) W H / (2 pi^2 sin(theta)).
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,7 +53,15 @@ private:
     int width_, height_;
     float rotate_;  // radians
     std::vector<Color> texels_;
-    std::vector<float> row_cdf_;      // height_ entries, the last 1
+    // Row j's cumulative table of its columns (sampling/discrete.h).
+    std::span<float> columns(int j) {
+        return {column_cdf_.data() + static_cast<size_t>(j) * width_, static_cast<size_t>(width_)};
+    }
+    std::span<const float> columns(int j) const {
+        return {column_cdf_.data() + static_cast<size_t>(j) * width_, static_cast<size_t>(width_)};
+    }
+
+    std::vector<float> row_cdf_;      // height_ entries, the last 1 (sampling/discrete.h)
     std::vector<float> column_cdf_;   // width_ per row, each row's last 1
     std::vector<float> probability_;  // of each texel
     Color mean_{0.0f};

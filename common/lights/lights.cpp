@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sampling/discrete.h"
 #include "sampling/sampling.h"
 
 namespace lessons {
@@ -26,7 +27,7 @@ float cone_one_minus_cos(float sin2_max) {
 }  // namespace
 
 LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
-    std::vector<float> power;
+    std::vector<double> power;
     for (uint32_t i = 0; i < scene.point_lights().size(); ++i) {
         // An isotropic point source of intensity I sends 4 pi I.
         const float p = 4.0f * kPi * luminance(scene.point_lights()[i].intensity);
@@ -64,23 +65,18 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         const Color sky = scene.environment_map ? scene.environment_map->mean() : scene.background;
         power.push_back(kPi * kPi * r * r * luminance(sky));
     }
-    double total = 0.0;
-    for (float p : power) total += p;
-    double running = 0.0;
-    for (float p : power) {
-        running += p;
-        cdf_.push_back(static_cast<float>(running / total));
-    }
-    if (!cdf_.empty()) cdf_.back() = 1.0f;
+    // By power, yet every light at least 2^-24 (sampling/discrete.h): a lamp 1e8 times dimmer
+    // than another is still chosen now and then, so no estimator weighs its light against a
+    // choice that cannot happen.
+    cdf_ = choice_cdf(power);
 }
 
 size_t LightSampler::choose_light(float u_choose) const {
-    return std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u_choose) - cdf_.begin(),
-                            lights_.size() - 1);
+    return choose_entry(cdf_, u_choose);
 }
 
 float LightSampler::choice_probability(size_t light) const {
-    return cdf_[light] - (light > 0 ? cdf_[light - 1] : 0.0f);
+    return entry_probability(cdf_, light);
 }
 
 float LightSampler::environment_pdf(const Vec3& dir) const {

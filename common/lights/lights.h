@@ -4,7 +4,7 @@
 // Lights: point lights (intensity I, W/sr), emissive surfaces (radiance L_e; quads, triangles
 // and spheres, one-sided unless the material says two-sided), and the uniform environment
 // (the scene's background radiance). A light is chosen with probability proportional to its
-// power; then
+// power (though none of positive power less often than 2^-24: sampling/discrete.h); then
 //   rectangles (quads with orthogonal edges): a direction uniform in the solid angle they
 //     subtend (SphericalRectangle, sampling.h), p = 1 / Omega, which stays bounded near the
 //     light's plane, where area sampling's 1 / (d^2 cos(theta_l)) does not (by area when the
@@ -129,7 +129,7 @@ private:
 
     const Scene& scene_;
     std::vector<Entry> lights_;
-    std::vector<float> cdf_;  // cumulative choice probabilities, cdf_.back() == 1
+    std::vector<float> cdf_;  // cumulative choice probabilities (sampling/discrete.h)
     std::unordered_map<uint32_t, size_t> light_of_primitive_;
     std::vector<size_t> light_of_point_;  // per point light: its index in lights_, or SIZE_MAX
     // Per area light: its rectangle, for those sampled by solid angle (AreaLight::rectangle).

@@ -75,7 +75,8 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "fixed ray offset), quadratic (textbook sphere test in float), "
                    "moller-trumbore (triangles, not watertight), side-by-dot (the side a ray "
                    "hits from dot(d, n)), shading-normals (no fallback below an interpolated "
-                   "normal), light-cosine (|cos| at one-sided lights); comma-separated")
+                   "normal), light-cosine (|cos| at one-sided lights), adjoint (lesson 5's "
+                   "light paths without the adjoint shading-normal correction); comma-separated")
         ->delimiter(',');
     app.add_option(
            "--sampler", o.sampler,
@@ -221,6 +222,8 @@ void apply_naive_methods(const std::vector<std::string>& methods, NaiveMethods& 
             naive.raw_shading_normals = true;
         } else if (method == "light-cosine") {
             naive.light_abs_cosine = true;
+        } else if (method == "adjoint") {
+            naive.no_adjoint_correction = true;
         } else if (method.rfind("epsilon=", 0) == 0) {
             char* end = nullptr;
             const float e = std::strtof(method.c_str() + 8, &end);
@@ -232,7 +235,7 @@ void apply_naive_methods(const std::vector<std::string>& methods, NaiveMethods& 
             throw InputError("command line", 0, "--naive",
                              "unknown method '" + method +
                                  "' (known: epsilon=E, quadratic, moller-trumbore, side-by-dot, "
-                                 "shading-normals, light-cosine)");
+                                 "shading-normals, light-cosine, adjoint)");
         }
     }
 }

@@ -96,9 +96,11 @@ struct NaiveMethods {
     bool side_by_dot = false;          // the side a ray hits from dot(d, n), not the hit test
     bool raw_shading_normals = false;  // no fallback when the viewer is below the shading normal
     bool light_abs_cosine = false;     // next-event estimation with |cos| at one-sided lights
+    bool no_adjoint_correction = false;  // lesson 5's light subpaths with the camera side's BSDF
+                                         // (no adjoint shading-normal correction)
     bool any() const {
         return fixed_epsilon > 0.0f || textbook_quadratic || moller_trumbore || side_by_dot ||
-               raw_shading_normals || light_abs_cosine;
+               raw_shading_normals || light_abs_cosine || no_adjoint_correction;
     }
 };
 
