@@ -68,8 +68,8 @@ Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixe
         f = Color(cos_y > 0.0f || two_sided ? 1.0f : 0.0f);
         cos_y = std::fabs(cos_y);
     } else {
-        f = light_side_bsdf(b, y, -w);
-        cos_y = y.bsdf->abs_cos(-w);
+        f = light_side_scattering(b, y, -w);  // f |cos|
+        cos_y = 1.0f;
     }
     const Color L = y.beta * f * (cos_y / d2 * b.camera.importance(w));
     if (is_black(L) || b.scene.occluded(spawn_ray_to(y.surface_point(), b.camera.position())))
@@ -89,8 +89,8 @@ Color join(const Bidir& b, const Vertex& y, const Vertex& z) {
     const float d2 = glm::dot(d, d);
     if (!(d2 > 0.0f)) return Color(0.0f);
     const Vec3 w = d / std::sqrt(d2);  // y -> z
-    const Color f_y = light_side_bsdf(b, y, w), f_z = z.bsdf->eval(z.si.wo, -w);
-    const Color L = y.beta * f_y * (y.bsdf->abs_cos(w) * z.bsdf->abs_cos(w) / d2) * f_z * z.beta;
+    const Color f_cos_y = light_side_scattering(b, y, w), f_z = z.bsdf->eval(z.si.wo, -w);
+    const Color L = y.beta * f_cos_y * (z.bsdf->abs_cos(w) / d2) * f_z * z.beta;
     // z's own surface cannot block the segment (f_z would be 0 from behind it) and must not be
     // asked near t = 1, as next-event estimation's shadow rays ignore the light they end on.
     if (is_black(L) ||

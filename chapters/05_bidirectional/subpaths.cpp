@@ -64,8 +64,11 @@ float density_towards(const Bidir& b, const Vertex& v, const Vertex* previous, c
         case VertexType::Light: return light_emission_density(b, v, next);
         case VertexType::Surface:
             if (!previous || v.delta) return 0.0f;
-            return to_area_density(v.bsdf->pdf(direction(v, *previous), direction(v, next)), v,
-                                   next);
+            {  // a subpath arriving from `previous` samples with the BSDF as seen from there
+                const Vec3 from = direction(v, *previous);
+                return to_area_density(v.bsdf->seen_from(from).pdf(from, direction(v, next)), v,
+                                       next);
+            }
     }
     return 0.0f;
 }
@@ -75,18 +78,21 @@ namespace {
 // Light arrives at v from si.wo and leaves along w. With a shading normal n_s other than the
 // geometric n_g, f |w . n_s| (what the camera side uses) is not its own adjoint; the light side
 // needs f |wo . n_s| |w . n_g| / |wo . n_g| instead: this factor times |w . n_s|.
-float adjoint_shading_correction(const Bidir& b, const Vertex& v, const Vec3& w) {
+float adjoint_shading_correction(const Bidir& b, const Bsdf& bsdf, const Vertex& v,
+                                 const Vec3& w) {
     if (b.scene.naive.no_adjoint_correction) return 1.0f;  // --naive adjoint: to see it fail
     const Vec3& wo = v.si.wo;
-    const float num = v.bsdf->abs_cos(wo) * std::fabs(glm::dot(w, v.si.n_geo));
-    const float den = std::fabs(glm::dot(wo, v.si.n_geo)) * v.bsdf->abs_cos(w);
+    const float num = bsdf.abs_cos(wo) * std::fabs(glm::dot(w, v.si.n_geo));
+    const float den = std::fabs(glm::dot(wo, v.si.n_geo)) * bsdf.abs_cos(w);
     return den > 0.0f ? num / den : 0.0f;
 }
 
 }  // namespace
 
-Color light_side_bsdf(const Bidir& b, const Vertex& v, const Vec3& w) {
-    return v.bsdf->eval(v.si.wo, w) * adjoint_shading_correction(b, v, w);
+Color light_side_scattering(const Bidir& b, const Vertex& v, const Vec3& w) {
+    // The scene's BSDF at a vertex is the one its camera side sees (Bsdf::seen_from): here w.
+    const Bsdf seen = v.bsdf->seen_from(w);
+    return seen.eval(v.si.wo, w) * (adjoint_shading_correction(b, seen, v, w) * seen.abs_cos(w));
 }
 
 namespace {
@@ -134,9 +140,12 @@ void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_
         const std::optional<BsdfSample> s = scatter(here);
         if (!s) return;
         Color weight = s->f * here.bsdf->abs_cos(s->wi) / s->pdf;  // f cos / p, as in lesson 4
-        if (transport == Transport::Importance) weight *= adjoint_shading_correction(b, here, s->wi);
-        // The density of the way back: `before` sampled from here, given the new direction.
-        float pdf_back = here.bsdf->pdf(s->wi, here.si.wo);
+        if (transport == Transport::Importance)  // the light side's f cos, as the camera sees it
+            weight = s->is_delta ? weight * adjoint_shading_correction(b, *here.bsdf, here, s->wi)
+                                 : light_side_scattering(b, here, s->wi) / s->pdf;
+        // The density of the way back: `before` sampled from here, by a subpath that arrived
+        // from the new direction (and so sees the BSDF from there).
+        float pdf_back = here.bsdf->seen_from(s->wi).pdf(s->wi, here.si.wo);
         float pdf_next = s->pdf;
         if (s->is_delta) {
             // A delta choice is made the same way from either side: the weights leave it out.

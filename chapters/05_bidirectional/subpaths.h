@@ -118,9 +118,11 @@ std::optional<GivenSubpaths> subpaths_along(const Bidir& b, const Vertex& light,
                                             std::span<const Vec3> points,
                                             std::string* why = nullptr);
 
-// The BSDF of a light-subpath vertex towards w, as light arriving from si.wo and leaving along w
-// sees it: f, with the correction that interpolated shading normals need on this side (the
-// adjoint of a shading-normal BSDF is not the same BSDF: Veach 1997, 5.3).
-Color light_side_bsdf(const Bidir& b, const Vertex& v, const Vec3& w);
+// f |cos| of a light-subpath vertex for light arriving from si.wo and leaving along w (towards
+// the camera's side of the path): the BSDF seen from w, as the camera side sees it (the
+// shading-normal fallback decided by w: Bsdf::seen_from), with the correction that interpolated
+// shading normals need on this side (the adjoint of a shading-normal BSDF is not the same BSDF:
+// Veach 1997, 5.3): f |si.wo . n_s| |w . n_g| / |si.wo . n_g|.
+Color light_side_scattering(const Bidir& b, const Vertex& v, const Vec3& w);
 
 }  // namespace lessons

@@ -190,9 +190,23 @@ Bsdf::Bsdf(const Material& material, const SurfaceInteraction& si)
     }
     // An interpolated normal can tilt so far that the viewer is below its hemisphere (near the
     // silhouette of a coarse mesh); every lobe would then be black. Shade with the true surface.
-    if (si.shading_fallback && material.type != MaterialType::Glass &&
-        glm::dot(si.wo, frame_.n) <= 0.0f)
-        frame_ = Frame(n_geo_);
+    if (si.shading_fallback && material.type != MaterialType::Glass) {
+        n_interpolated_ = frame_.n;
+        may_fall_back_ = true;
+        if (glm::dot(si.wo, frame_.n) <= 0.0f) {
+            frame_ = Frame(n_geo_);
+            fell_back_ = true;
+        }
+    }
+}
+
+Bsdf Bsdf::seen_from(const Vec3& wo) const {
+    const bool fall_back = may_fall_back_ && glm::dot(wo, n_interpolated_) <= 0.0f;
+    if (fall_back == fell_back_) return *this;
+    Bsdf b = *this;
+    b.frame_ = Frame(fall_back ? n_geo_ : n_interpolated_);
+    b.fell_back_ = fall_back;
+    return b;
 }
 
 bool Bsdf::is_delta() const {

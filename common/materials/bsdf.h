@@ -93,6 +93,12 @@ public:
     std::optional<BsdfSample> sample(const Vec3& wo, const Vec2& u,
                                      Transport transport = Transport::Radiance) const;
 
+    // The same BSDF as a viewer from wo sees it: the shading-normal fallback (below a tilted
+    // interpolated normal, the surface's own) decided by wo rather than by the direction the
+    // BSDF was made for. The scene's BSDF at a path vertex is the one seen from the camera's
+    // side; lesson 5's light subpaths arrive from the other side and ask for it.
+    Bsdf seen_from(const Vec3& wo) const;
+
     bool is_delta() const;
     // |cos(theta)| of a world direction against the shading normal.
     float abs_cos(const Vec3& w) const { return std::fabs(glm::dot(w, frame_.n)); }
@@ -106,6 +112,8 @@ private:
     BsdfLobe lobe_;
     Frame frame_;
     Vec3 n_geo_;
+    Vec3 n_interpolated_{0.0f};  // the shading normal on the viewer's side (when it may fall back)
+    bool may_fall_back_ = false, fell_back_ = false;
 };
 
 }  // namespace lessons
