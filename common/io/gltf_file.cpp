@@ -24,7 +24,18 @@ namespace {
 // the cap, as every other input (input_file.h).
 struct ReadLimits {
     uint64_t max_bytes;
+    std::string base;  // the glTF file's folder, which tinygltf joins to every URI
 };
+// tinygltf joins the folder to a URI even when it is an absolute path ("/dev/zero" becomes
+// "folder//dev/zero", then "File not found"): an absolute path names itself.
+std::string expand_path(const std::string& joined, void* user) {
+    const std::string& base = static_cast<ReadLimits*>(user)->base;
+    const size_t n = base.size();
+    if (n > 0 && joined.size() > n + 1 && joined.compare(0, n, base) == 0 && joined[n] == '/' &&
+        joined[n + 1] == '/')
+        return tinygltf::ExpandFilePath(joined.substr(n + 1), nullptr);
+    return tinygltf::ExpandFilePath(joined, nullptr);
+}
 bool read_capped(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                  void* user) {
     try {
@@ -610,15 +621,15 @@ GltfScene read_gltf(const std::string& path, uint64_t max_bytes) {
         check_json_depth(path, bytes, 0, bytes.size());
     }
     tinygltf::TinyGLTF loader;
-    ReadLimits limits{max_bytes};
-    tinygltf::FsCallbacks fs{&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_capped,
+    const std::string ext = std::filesystem::path(path).extension().string();
+    const std::string base = std::filesystem::path(path).parent_path().string();
+    ReadLimits limits{max_bytes, base};
+    tinygltf::FsCallbacks fs{&tinygltf::FileExists, &expand_path, &read_capped,
                              &tinygltf::WriteWholeFile, &limits};
     loader.SetFsCallbacks(fs);
     loader.SetImageLoader(&skip_image, nullptr);
     tinygltf::Model model;
     std::string err, warn;
-    const std::string ext = std::filesystem::path(path).extension().string();
-    const std::string base = std::filesystem::path(path).parent_path().string();
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
     const bool ok =
         ext == ".glb" || ext == ".GLB"

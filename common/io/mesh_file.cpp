@@ -8,6 +8,8 @@
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -73,6 +75,25 @@ void check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
                 if (std::filesystem::exists(mtl, ec))
                     check_input_file(mtl, "MTL file", max_bytes, "--max-file-mb");
             }
+            continue;
+        }
+        if (keyword == "f" || keyword == "l" || keyword == "p") {
+            // tinyobjloader keeps an index in an int: one past 2^31 - 1 would wrap to a negative
+            // number, and a missing vertex be reported under that.
+            for (std::string token; fields >> token;)
+                for (size_t start = 0; start <= token.size();) {
+                    const size_t slash = std::min(token.find('/', start), token.size());
+                    const std::string part = token.substr(start, slash - start);
+                    start = slash + 1;
+                    if (part.empty()) continue;
+                    errno = 0;
+                    const long long index = std::strtoll(part.c_str(), nullptr, 10);
+                    if (errno == ERANGE || index > INT32_MAX || index < -INT32_MAX)
+                        throw InputError(path, number, keyword,
+                                         "index '" + part.substr(0, 40) +
+                                             "' is out of range (an OBJ index is at most "
+                                             "2147483647 in size)");
+                }
             continue;
         }
         if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
