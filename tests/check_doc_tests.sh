@@ -21,14 +21,18 @@ sources=(tests/*.cpp)
 
 # The declared tests, one "Suite.Name" a line. grep -z reads each file as one line, so that a
 # macro's arguments may be split across lines; \b keeps MY_TEST( from counting.
-declared="$(grep -hPzo '\b(TEST|TEST_F|TEST_P|TYPED_TEST|TYPED_TEST_P)\s*\(\s*[A-Za-z_]\w*\s*,\s*[A-Za-z_]\w*\s*\)' \
+macro='\b(TEST|TEST_F|TEST_P|TYPED_TEST|TYPED_TEST_P)'
+arguments='\s*\(\s*[A-Za-z_]\w*\s*,\s*[A-Za-z_]\w*\s*\)'
+declared="$(grep -hPzo "$macro$arguments" \
                 "${sources[@]}" |
-            tr -d ' \t\r\n' | tr '\0' '\n' | sed -E 's/^[A-Z_]+\(([A-Za-z0-9_]+),([A-Za-z0-9_]+)\)$/\1.\2/' |
+            tr -d ' \t\r\n' | tr '\0' '\n' |
+            sed -E 's/^[A-Z_]+\(([A-Za-z0-9_]+),([A-Za-z0-9_]+)\)$/\1.\2/' |
             sort -u)"
 # ctest names given to add_test(NAME ...).
 ctest_names=""
 if [ -f tests/CMakeLists.txt ]; then
-    ctest_names="$(grep -Po 'add_test\s*\(\s*NAME\s+\K[^\s)]+' tests/CMakeLists.txt | sort -u || true)"
+    ctest_names="$(grep -Po 'add_test\s*\(\s*NAME\s+\K[^\s)]+' tests/CMakeLists.txt |
+                   sort -u || true)"
 fi
 
 exists() {

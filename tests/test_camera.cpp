@@ -37,11 +37,12 @@ TEST(Camera, RasterPositionInvertsGenerateRayOnAWideImageToItsCorners) {
     const int w = 320, h = 90;
     const Camera camera(Vec3(0.3f, 1.2f, -4), Vec3(-0.2f, 0.5f, 1), Vec3(0, 1, 0), 50.0f,
                         static_cast<float>(w) / h);
-    std::vector<Vec2> film = {{0.5f, 0.5f},         {w - 0.5f, 0.5f},   {0.5f, h - 0.5f},
-                              {w - 0.5f, h - 0.5f}, {1e-3f, 1e-3f},     {w - 1e-3f, h - 1e-3f},
+    std::vector<Vec2> film = {{0.5f, 0.5f},         {w - 0.5f, 0.5f},      {0.5f, h - 0.5f},
+                              {w - 0.5f, h - 0.5f}, {1e-3f, 1e-3f},        {w - 1e-3f, h - 1e-3f},
                               {160.0f, 45.0f},      {w * 0.77f, h * 0.13f}};
-    for (int i = 1; i <= 200; ++i) film.push_back({(i * 0.618034f - std::floor(i * 0.618034f)) * w,
-                                                  (i * 0.7548777f - std::floor(i * 0.7548777f)) * h});
+    for (int i = 1; i <= 200; ++i)
+        film.push_back({(i * 0.618034f - std::floor(i * 0.618034f)) * w,
+                        (i * 0.7548777f - std::floor(i * 0.7548777f)) * h});
     for (const Vec2& p : film) {
         const std::optional<Vec2> back =
             camera.raster_position(camera.generate_ray(p.x, p.y, w, h).dir, w, h);
@@ -55,8 +56,8 @@ TEST(Camera, RasterPositionInvertsGenerateRayOnAWideImageToItsCorners) {
         }
     }
     // Outside the film, and behind the camera: nothing.
-    for (const Vec2& p : {Vec2(-0.5f, 45.0f), Vec2(w + 0.5f, 45.0f), Vec2(160.0f, -0.5f),
-                          Vec2(160.0f, h + 0.5f)})
+    for (const Vec2& p :
+         {Vec2(-0.5f, 45.0f), Vec2(w + 0.5f, 45.0f), Vec2(160.0f, -0.5f), Vec2(160.0f, h + 0.5f)})
         EXPECT_FALSE(camera.raster_position(camera.generate_ray(p.x, p.y, w, h).dir, w, h))
             << p.x << ", " << p.y;
     EXPECT_FALSE(camera.raster_position(-camera.forward(), w, h));
@@ -72,7 +73,8 @@ TEST(Camera, ImportanceIntegratesToOneOverTheFilm) {
         const Camera camera(Vec3(1, 2, 3), Vec3(0, 1.5f, 0), Vec3(0, 1, 0), 70.0f,
                             static_cast<float>(w) / h);
         const Vec3 f = camera.forward();
-        const Vec3 a = glm::normalize(glm::cross(f, std::fabs(f.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
+        const Vec3 a =
+            glm::normalize(glm::cross(f, std::fabs(f.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
         const Vec3 b = glm::cross(f, a);
         double sum = 0.0, sum2 = 0.0;
         const int n = 400000;
@@ -87,12 +89,14 @@ TEST(Camera, ImportanceIntegratesToOneOverTheFilm) {
             const Vec3 d = glm::normalize(static_cast<float>(z) * f +
                                           static_cast<float>(r * std::cos(phi)) * a +
                                           static_cast<float>(r * std::sin(phi)) * b);
-            const double x = camera.raster_position(d, w, h) ? camera.importance(d) * 2.0 * kPi : 0.0;
+            const double x =
+                camera.raster_position(d, w, h) ? camera.importance(d) * 2.0 * kPi : 0.0;
             sum += x;
             sum2 += x * x;
         }
         const double mean = sum / n, se = std::sqrt((sum2 / n - mean * mean) / (n - 1));
-        EXPECT_LT(std::fabs(mean - 1.0), 4.0 * se) << "aspect " << aspect << ": " << mean << " +- " << se;
+        EXPECT_LT(std::fabs(mean - 1.0), 4.0 * se)
+            << "aspect " << aspect << ": " << mean << " +- " << se;
         EXPECT_EQ(camera.importance(-f), 0.0f);
     }
 }

@@ -135,20 +135,21 @@ TEST(EnvironmentMap, RotatingTheMapIsShiftingItsColumns) {
         for (int i = 0; i < w; ++i) {
             // The straight map's texel (i, j), read back through a direction in its middle.
             const double theta = kPi * (j + 0.5) / h, phi = 2.0 * kPi * ((i + shift) % w + 0.5) / w;
-            shifted[j * w + i] = straight->radiance(Vec3(std::sin(theta) * std::cos(phi),
-                                                         std::cos(theta),
-                                                         std::sin(theta) * std::sin(phi)));
+            shifted[j * w + i] = straight->radiance(Vec3(
+                std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)));
         }
     const auto by_hand = std::make_shared<const EnvironmentMap>(w, h, shifted, 0.0f, 1.0f);
     Rng rng(5);
     int compared = 0;
     for (int k = 0; k < 20000; ++k) {
         const Vec3 d = sample_uniform_sphere(rng.uniform2());
-        const double phi = std::atan2(d.z, d.x), column = (phi < 0 ? phi + 2 * kPi : phi) / (2 * kPi) * w;
+        const double phi = std::atan2(d.z, d.x),
+                     column = (phi < 0 ? phi + 2 * kPi : phi) / (2 * kPi) * w;
         if (std::fabs(column - std::round(column)) < 1e-3) continue;  // on a column's edge
         ++compared;
         EXPECT_EQ(turned->radiance(d), by_hand->radiance(d)) << d.x << " " << d.y << " " << d.z;
-        EXPECT_NEAR(turned->pdf(d), by_hand->pdf(d), 1e-5f * by_hand->pdf(d));
+        // (The two column tables round in different orders: a unit of 2^-24 apart at most.)
+        EXPECT_NEAR(turned->pdf(d), by_hand->pdf(d), 1e-4f * by_hand->pdf(d));
     }
     EXPECT_GT(compared, 19000);
 
@@ -159,7 +160,8 @@ TEST(EnvironmentMap, RotatingTheMapIsShiftingItsColumns) {
     b.environment_map = by_hand;
     const RenderResult ra = render4(a, false, 1024, 21), rb = render4(b, false, 1024, 22);
     const RenderResult fa = render5(a, 512, 23), fb = render5(b, 512, 24);
-    for (const auto& [name, x, y] : {std::tuple{"lesson 4", &ra, &rb}, std::tuple{"lesson 5", &fa, &fb}}) {
+    for (const auto& [name, x, y] :
+         {std::tuple{"lesson 4", &ra, &rb}, std::tuple{"lesson 5", &fa, &fb}}) {
         const auto [passed, tested] = test::channels_that_agree(*x, *y);
         EXPECT_GE(passed, 0.9975 * tested) << name << ": " << passed << " of " << tested;
     }

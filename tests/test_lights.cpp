@@ -326,9 +326,9 @@ std::shared_ptr<const EnvironmentMap> test_map(float rotate) {
 
 TEST(Lights, EveryLightOfPositivePowerCanBeChosen) {
     // Beside a light 1e8 times more powerful, listed before it (point lights come first), a lamp
-    // keeps a positive choice probability (sampling/discrete.h), and the light sampler's density
-    // for it is that probability over its area, the same number the emission sampler uses; so
-    // are two quads of powers 1e8 and 1, whichever the table lists first.
+    // keeps a positive choice probability (sampling/discrete.h), for the emission sampler and the
+    // light sampler alike; so does a quad beside one 1e8 times brighter; and the choices add up
+    // to 1 exactly.
     for (const bool point_first : {true, false}) {
         Scene scene;
         Material faint, bright;
@@ -362,8 +362,9 @@ TEST(Lights, EveryLightOfPositivePowerCanBeChosen) {
 
 TEST(Lights, ASunOfABillionTimesTheRestLeavesEveryTexelADensity) {
     // Every texel of positive radiance keeps a positive density however bright a sun beside it
-    // (sampling/discrete.h), and the density still integrates to 1: the sun in the top row (so
-    // that every other row comes after it in the row table), and in a middle row.
+    // (sampling/discrete.h), and the texels' probabilities, read back from the density, add up
+    // to 1: the sun in the top row (so that every other row comes after it in the row table),
+    // and in a middle row.
     for (const int sun_row : {0, 4}) {
         const int w = 16, h = 8;
         std::vector<Color> texels(w * h, Color(1.0f));
@@ -379,8 +380,8 @@ TEST(Lights, ASunOfABillionTimesTheRestLeavesEveryTexelADensity) {
                 EXPECT_GT(p, 0.0) << "texel " << i << ", " << j;
                 const double solid_angle =
                     2.0 * kPi / w * (std::cos(kPi * j / h) - std::cos(kPi * (j + 1) / h));
-                // p is P(texel) W H / (2 pi^2 sin(theta_centre)): exact per patch with the sine
-                // at the centre, as the map weighs it.
+                // p = P(texel) W H / (2 pi^2 sin(theta)) at the direction's theta: P(texel) back
+                // from the density at the texel's centre.
                 integral += p * solid_angle * std::sin(theta) /
                             ((std::cos(kPi * j / h) - std::cos(kPi * (j + 1) / h)) * h / kPi);
             }

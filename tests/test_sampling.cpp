@@ -230,9 +230,13 @@ TEST(Sampling, ChoiceTablesGiveEveryPositiveWeightAnExactPositiveProbability) {
     // sampler realises, counted here over every one of the 2^24 values of u; no entry of
     // positive weight at 0, however small its share; no entry of zero weight above 0; and each
     // share within a few units of 2^-24 of its weight's share.
-    const std::vector<std::vector<double>> cases = {
-        {1e8, 1.0}, {1.0, 1e8}, {0.0, 3.0, 0.0, 1e-12, 5.0, 0.0}, {2.0}, {0.0, 0.0, 0.0},
-        {1e9, 1.0, 1.0, 1.0, 1e-3, 1e9}, {1.0, 2.0, 3.0, 4.0}};
+    const std::vector<std::vector<double>> cases = {{1e8, 1.0},
+                                                    {1.0, 1e8},
+                                                    {0.0, 3.0, 0.0, 1e-12, 5.0, 0.0},
+                                                    {2.0},
+                                                    {0.0, 0.0, 0.0},
+                                                    {1e9, 1.0, 1.0, 1.0, 1e-3, 1e9},
+                                                    {1.0, 2.0, 3.0, 4.0}};
     for (const std::vector<double>& weights : cases) {
         const std::vector<float> cdf = choice_cdf(weights);
         ASSERT_EQ(cdf.size(), weights.size());
@@ -249,19 +253,24 @@ TEST(Sampling, ChoiceTablesGiveEveryPositiveWeightAnExactPositiveProbability) {
             const float p = entry_probability(cdf, i);
             EXPECT_EQ(static_cast<double>(count[i]) * 0x1p-24, p) << "entry " << i;
             if (total > 0.0) {
-                EXPECT_EQ(p > 0.0f, weights[i] > 0.0) << "entry " << i << " of weight " << weights[i];
+                EXPECT_EQ(p > 0.0f, weights[i] > 0.0)
+                    << "entry " << i << " of weight " << weights[i];
                 EXPECT_NEAR(p, weights[i] / total, (positive + 1) * 0x1p-24) << "entry " << i;
             } else {
                 EXPECT_NEAR(p, 1.0 / weights.size(), 0x1p-24);  // nothing to weigh by: uniform
             }
         }
     }
-    // The rest of u within the chosen entry is uniform again: the interval's ends map to 0 and
-    // to just below 1.
+    // The rest of u within the chosen entry: the middle of each of its units, from half a unit
+    // above 0 to half a unit below 1 (an entry of one unit: its centre).
     const std::vector<float> cdf = choice_cdf(std::vector<double>{1.0, 3.0});
     float rest = -1.0f;
     EXPECT_EQ(choose_entry(cdf, 0.25f, &rest), 1u);
-    EXPECT_EQ(rest, 0.0f);
+    EXPECT_EQ(rest, 0.5f * 0x1p-24f / 0.75f);
     EXPECT_EQ(choose_entry(cdf, 0.25f - 0x1p-24f, &rest), 0u);
-    EXPECT_EQ(rest, (0.25f - 0x1p-24f) / 0.25f);
+    EXPECT_EQ(rest, (0.25f - 0.5f * 0x1p-24f) / 0.25f);
+    const std::vector<float> tiny = choice_cdf(std::vector<double>{1e12, 1.0, 1e12});
+    ASSERT_EQ(entry_probability(tiny, 1), 0x1p-24f);
+    EXPECT_EQ(choose_entry(tiny, tiny[0], &rest), 1u);
+    EXPECT_EQ(rest, 0.5f);
 }

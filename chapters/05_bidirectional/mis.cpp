@@ -43,13 +43,7 @@ void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) 
         int j = i;
         while (j + 1 < n - 1 && d[j + 1].delta) ++j;
         const Vertex &before = x(i - 1), &after = x(j + 1);
-        if (before.infinite) {
-            // The sky beyond the chain: a camera path reaches it by the direction it samples at
-            // x_{j+1}, which the chain turns but does not spread (per steradian, as the sky's
-            // densities are). No light subpath starts there (its density stays 0).
-            const double d_last = glm::length(after.p - x(j).p);
-            d[i - 1].from_camera = d[j].from_camera * d_last * d_last / abs_cos(x(j), after);
-        } else {
+        if (!before.infinite) {
             double unfolded = 0.0;
             for (int k = i - 1; k <= j; ++k) unfolded += glm::length(x(k + 1).p - x(k).p);
             // p at x_{i-1} from x_i's density, and p at x_{j+1} from x_j's, back to solid angle.

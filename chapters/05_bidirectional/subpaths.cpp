@@ -140,7 +140,9 @@ void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_
         const std::optional<BsdfSample> s = scatter(here);
         if (!s) return;
         Color weight = s->f * here.bsdf->abs_cos(s->wi) / s->pdf;  // f cos / p, as in lesson 4
-        if (transport == Transport::Importance)  // the light side's f cos, as the camera sees it
+        // The light side's f cos, as the camera side sees it (a mirror or glass keeps the frame
+        // it was made with: its reflection is no other).
+        if (transport == Transport::Importance)
             weight = s->is_delta ? weight * adjoint_shading_correction(b, *here.bsdf, here, s->wi)
                                  : light_side_scattering(b, here, s->wi) / s->pdf;
         // The density of the way back: `before` sampled from here, by a subpath that arrived
@@ -215,8 +217,9 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
 namespace {
 
 // The direction a given path takes at v towards `next` (a point, or the sky's direction), as if
-// the BSDF had sampled it: its density (a delta choice's, 1), and a throughput that stays
-// positive (the weights read densities only).
+// the BSDF had sampled it: its density (a delta choice's, 1), and f = pdf / |cos|, so that the
+// camera side's throughput stays 1 (the weights read densities only; the light side's takes the
+// real f cos, and ends where it is 0).
 std::optional<BsdfSample> towards(const Vertex& v, const Vertex& next) {
     const Vec3 wi = direction(v, next);
     if (v.bsdf->is_delta()) return BsdfSample{wi, Color(1.0f), 1.0f, true};

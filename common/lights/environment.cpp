@@ -65,7 +65,8 @@ EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
     for (int j = 0; j < height_; ++j) {
         const float row = entry_probability(row_cdf_, j);
         for (int i = 0; i < width_; ++i)
-            probability_[static_cast<size_t>(j) * width_ + i] = row * entry_probability(columns(j), i);
+            probability_[static_cast<size_t>(j) * width_ + i] =
+                row * entry_probability(columns(j), i);
     }
 }
 

@@ -12,8 +12,8 @@
 // Sampling: a texel with probability proportional to its luminance times sin(theta) at its
 // row's centre (the solid angle its patch covers, up to a constant), then a point uniform in
 // (u, v) within it (a row by its weight, then a column of it: no texel of positive weight is
-// chosen less often than 2^-48, sampling/discrete.h). A patch of du dv covers 2 pi^2 sin(theta) du dv steradians, so the
-// density per unit solid angle is  p = P(texel) W H / (2 pi^2 sin(theta)).
+// chosen less often than 2^-48, sampling/discrete.h). A patch of du dv covers 2 pi^2 sin(theta) du
+// dv steradians, so the density per unit solid angle is  p = P(texel) W H / (2 pi^2 sin(theta)).
 #pragma once
 
 #include <optional>

@@ -60,13 +60,12 @@ std::vector<float> choice_cdf(std::span<const double> weights) {
 
 size_t choose_entry(std::span<const float> cdf, float u, float* rest) {
     const size_t n = cdf.size();
-    const size_t k =
-        std::min<size_t>(static_cast<size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) -
-                                             cdf.begin()),
-                         n - 1);
+    const size_t k = std::min<size_t>(
+        static_cast<size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), n - 1);
     if (rest) {
         const float lo = k > 0 ? cdf[k - 1] : 0.0f, hi = cdf[k];
-        *rest = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
+        *rest =
+            hi > lo ? std::clamp((u - lo + 0.5f * kUnit) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
     }
     return k;
 }

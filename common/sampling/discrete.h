@@ -15,8 +15,13 @@
 // the shares of the others rounded to the nearest unit as the running sum goes, the total
 // exactly 1. An entry of zero weight gets no unit (it is never chosen, and sends nothing to find).
 // This needs at most 2^24 entries of positive weight (16,777,216 lights, or texels in one row);
-// beyond that the later tiny ones keep probability 0, which the estimators treat as "this
-// strategy cannot make the path" (lesson 5's mis.cpp). All weights zero: a uniform choice.
+// beyond that the floor is not applied, and any entry whose share rounds to no unit keeps
+// probability 0, which the estimators treat as "this strategy cannot make the path" (lesson 5's
+// mis.cpp). All weights zero: a uniform choice.
+//
+// The rest of u within the chosen entry (for reuse, as the environment map places a point in
+// its texel) takes as many values as the entry has units: the middle of each, so that an entry
+// of one unit is sampled at its centre rather than on its edge.
 #pragma once
 
 #include <cstddef>
