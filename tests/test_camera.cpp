@@ -1,7 +1,7 @@
 // The pinhole camera: basis, field of view, image orientation.
 #include <gtest/gtest.h>
 
-#include "render/camera.h"
+#include "scene/camera.h"
 
 using namespace lessons;
 

@@ -1,4 +1,4 @@
-// Environment maps in the lessons (lights/environment.h): a constant map is the uniform sky bit
+// Environment maps in the lessons (scene/environment.h): a constant map is the uniform sky bit
 // for bit; a diffuse sphere under a constant map shows rho L (the map's importance sampling, not
 // the uniform sky's); next-event estimation with the map matches BSDF sampling alone, and lesson
 // 5 matches lesson 4, pixel by pixel.

@@ -2,9 +2,9 @@
 // irradiance against closed forms, one-sidedness, and choice by power.
 #include <gtest/gtest.h>
 
-#include "lights/environment.h"
 #include "lights/lights.h"
 #include "sampling/sampling.h"
+#include "scene/environment.h"
 #include "statistics.h"
 #include "test_util.h"
 

@@ -8,9 +8,9 @@
 #include <set>
 #include <vector>
 
-#include "accel/simd.h"
 #include "geometry/bounds.h"
 #include "geometry/math.h"
+#include "geometry/simd.h"
 #include "sampling/rng.h"
 #include "test_util.h"
 

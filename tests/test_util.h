@@ -7,9 +7,9 @@
 #include <memory>
 #include <vector>
 
-#include "lights/environment.h"
 #include "sampling/rng.h"
 #include "sampling/sampling.h"
+#include "scene/environment.h"
 #include "scene/scene.h"
 
 namespace lessons::test {

@@ -4,7 +4,7 @@
 // sky.exr, a small latitude-longitude sky (docs/scene-format.md, "[background]"), and tiles.png,
 // an 8-bit sRGB texture of terracotta tiles with pale grout.
 // Rows run from the zenith (top) to the nadir (bottom), columns around the vertical axis (the
-// environment map's convention, lights/environment.h). Above the horizon, a blue sky brightening
+// environment map's convention, scene/environment.h). Above the horizon, a blue sky brightening
 // to white at the horizon; below it, a dim brown ground; and one texel of sun, 35 degrees above
 // the horizon, bright enough to cast shadows.
 #include <CLI/CLI.hpp>

@@ -36,9 +36,9 @@
 #include <vector>
 
 #include "accel/large_pages.h"
-#include "accel/simd.h"
 #include "geometry/bounds.h"
 #include "geometry/math.h"
+#include "geometry/simd.h"
 
 namespace lessons {
 

@@ -12,9 +12,9 @@
 #include <cstdint>
 #include <utility>
 
-#include "accel/simd.h"
 #include "geometry/bounds.h"
 #include "geometry/math.h"
+#include "geometry/simd.h"
 #include "geometry/spawn.h"
 
 namespace lessons {

@@ -9,7 +9,7 @@
 #include "io/mesh_file.h"
 #include "io/scene_file.h"
 #include "io/texture.h"
-#include "lights/environment.h"
+#include "scene/environment.h"
 
 namespace lessons {
 

@@ -12,7 +12,7 @@
 //   other quads, triangles: a point uniform by area, p_A = 1 / A, converted to solid angle;
 //   spheres: a direction uniform in the cone the sphere subtends (from inside: by area);
 //   environment: a uniform sky, a direction uniform on the sphere, 1 / (4 pi); a map, by its
-//     importance, luminance times sin(theta) per texel (lights/environment.h);
+//     importance, luminance times sin(theta) per texel (scene/environment.h);
 //   point lights: their position (a delta distribution).
 #pragma once
 

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <type_traits>
 
+#include "geometry/interaction.h"
 #include "materials/microfacet.h"
 #include "materials/optics.h"
 #include "sampling/sampling.h"
-#include "scene/scene.h"
 
 namespace lessons {
 

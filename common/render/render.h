@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "geometry/math.h"
-#include "render/camera.h"
 #include "render/film.h"
 #include "sampling/rng.h"
+#include "scene/camera.h"
 
 namespace lessons {
 

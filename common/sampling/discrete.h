@@ -1,5 +1,5 @@
 // A discrete choice by one uniform number: which light (lights/lights.h), which row and column of
-// an environment map (lights/environment.h). The choice probabilities are proportional to
+// an environment map (scene/environment.h). The choice probabilities are proportional to
 // non-negative weights, held as a cumulative table (CDF) of floats.
 //
 // Every uniform number the samplers make is a multiple of 2^-24 in [0, 1) (sampling/rng.h). So

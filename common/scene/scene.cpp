@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "accel/parallel.h"
-#include "accel/simd.h"
+#include "geometry/simd.h"
 
 namespace lessons {
 

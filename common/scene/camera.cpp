@@ -1,6 +1,6 @@
 // Pinhole camera: an orthonormal basis from look-at and up, rays through the image plane at
 // distance 1, whose half-height is tan(fov_y / 2).
-#include "render/camera.h"
+#include "scene/camera.h"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // Environment maps (see environment.h).
-#include "lights/environment.h"
+#include "scene/environment.h"
 
 #include <algorithm>
 #include <cmath>
