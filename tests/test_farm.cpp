@@ -9,6 +9,7 @@
 #include <iterator>
 #include <random>
 
+#include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
 #include "ray_casting.h"
@@ -289,4 +290,101 @@ TEST(Farm, TheTargetIsTheLargestEndAskedForAndPartsPastItAreNamed) {
     ASSERT_EQ(c.beyond.size(), 1u);
     EXPECT_FALSE(c.complete());
     EXPECT_TRUE(part_coverage(parts, 4).complete());
+}
+
+namespace {
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+// A scene of an OBJ mesh whose MTL names a map_Kd image, beside a quad whose albedo is another
+// image, under an environment map: every kind of file a TOML scene loads.
+std::string scene_of_every_file_kind(const std::string& dir) {
+    std::filesystem::create_directories(dir);
+    write_png_bytes(dir + "/wood.png", 2, 2, std::vector<uint8_t>(12, 200));
+    write_png_bytes(dir + "/wall.png", 2, 2, std::vector<uint8_t>(12, 100));
+    Image sky(4, 2);
+    for (size_t i = 0; i < sky.pixels.size(); ++i) sky.pixels[i] = Color(0.1f * float(i + 1));
+    write_exr(sky, dir + "/sky.exr");
+    write_text(dir + "/wood.mtl", "newmtl wood\nKd 0.8 0.8 0.8\nmap_Kd wood.png\n"
+                                  "newmtl plain\nKd 0.5 0.5 0.5\n");
+    write_text(dir + "/plank.obj", "mtllib wood.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                   "vt 0 0\nvt 1 0\nvt 0 1\nusemtl wood\nf 1/1 2/2 3/3\n"
+                                   "usemtl plain\nf 2/2 4/1 3/3\n");
+    write_text(dir + "/scene.toml", R"([image]
+width = 8
+height = 6
+[camera]
+position = [0.5, 0.5, -4]
+look_at = [0.5, 0.5, 0]
+fov = 40
+[background]
+map = "sky.exr"
+[materials.wall]
+type = "diffuse"
+albedo = { texture = "wall.png" }
+[[shapes]]
+type = "mesh"
+file = "plank.obj"
+[[shapes]]
+type = "quad"
+material = "wall"
+corner = [-1, -1, 1]
+edge_u = [0, 2, 0]
+edge_v = [2, 0, 0]
+)");
+    return dir + "/scene.toml";
+}
+
+std::vector<std::string> file_names(const std::vector<std::string>& paths) {
+    std::vector<std::string> names;
+    for (const std::string& p : paths) names.push_back(std::filesystem::path(p).filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+}  // namespace
+
+// load_scene records every file it reads, the MTL and the images an MTL names included, and the
+// farm's scene hash covers each: editing an MTL's colour or its map_Kd image changes the hash.
+TEST(Farm, TheSceneHashCoversEveryFileTheSceneWasMadeOf) {
+    const std::string dir =
+        (std::filesystem::temp_directory_path() / "lessons_farm_scene_files").string();
+    std::filesystem::remove_all(dir);
+    const std::string path = scene_of_every_file_kind(dir);
+    const auto hash = [&] {
+        const Scene scene = load_scene(path, {0, 0, {}, 1});
+        return std::make_pair(file_names(scene.input_files), scene_files_hash(scene, {}));
+    };
+    const auto [files, original] = hash();
+    EXPECT_EQ(files, (std::vector<std::string>{"plank.obj", "scene.toml", "sky.exr", "wall.png",
+                                               "wood.mtl", "wood.png"}));
+    EXPECT_EQ(hash().second, original);  // nothing changed, nothing moves
+
+    write_text(dir + "/wood.mtl", "newmtl wood\nKd 0.7 0.8 0.8\nmap_Kd wood.png\n"
+                                  "newmtl plain\nKd 0.5 0.5 0.5\n");
+    const std::string after_mtl = hash().second;
+    EXPECT_NE(after_mtl, original) << "an MTL's colour changed and the hash did not";
+
+    write_png_bytes(dir + "/wood.png", 2, 2, std::vector<uint8_t>(12, 201));
+    const std::string after_image = hash().second;
+    EXPECT_NE(after_image, after_mtl) << "an MTL's map_Kd image changed and the hash did not";
+
+    write_png_bytes(dir + "/wall.png", 2, 2, std::vector<uint8_t>(12, 101));
+    EXPECT_NE(hash().second, after_image) << "a scene texture changed and the hash did not";
+    std::filesystem::remove_all(dir);
+}
+
+// A glTF file's buffers and images are among the files its scene was made of, whether the glTF
+// is the whole scene or placed by a TOML scene.
+TEST(Farm, AGltfSceneRecordsItsImages) {
+    const std::string gltf = std::string(LESSONS_SOURCE_DIR) + "/tests/gltf/cubes.gltf";
+    const Scene whole = load_scene(gltf, {0, 0, {}, 1});
+    EXPECT_EQ(file_names(whole.input_files), (std::vector<std::string>{"cubes.gltf", "tiles.png"}));
+    const Scene placed =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/tests/gltf/cubes_placed.toml", {0, 0, {}, 1});
+    const std::vector<std::string> names = file_names(placed.input_files);
+    for (const char* name : {"cubes_placed.toml", "cubes.gltf", "tiles.png"})
+        EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
 }

@@ -565,11 +565,6 @@ struct Walk {
 
 }  // namespace
 
-bool is_gltf_file(const std::string& path) {
-    const std::string ext = std::filesystem::path(path).extension().string();
-    return ext == ".gltf" || ext == ".glb" || ext == ".GLTF" || ext == ".GLB";
-}
-
 namespace {
 
 // tinygltf parses JSON recursively, extras and unknown extensions included: a file of deeply

@@ -11,6 +11,7 @@
 
 #include "geometry/bounds.h"
 #include "geometry/math.h"
+#include "io/input_file.h"
 #include "materials/material.h"
 #include "scene/scene.h"
 
@@ -49,7 +50,12 @@ struct GltfScene {
 // primitive modes, spot and directional lights.
 GltfScene load_gltf(const std::string& path, uint64_t max_bytes);
 
-// Whether a scene file is glTF (by its extension: .gltf or .glb).
+// Whether a scene file is glTF (by its extension: .gltf or .glb). (io/gltf_scene.cpp)
 bool is_gltf_file(const std::string& path);
+
+// Stage 1 of loading a glTF file as the whole scene (scene_file.h): the file as one glTF shape,
+// its camera, or a default one framing its bounds, and the files it read. (io/gltf_scene.cpp)
+struct SceneDescription;
+SceneDescription gltf_scene_description(const std::string& path, const InputLimits& limits);
 
 }  // namespace lessons

@@ -56,8 +56,10 @@ Material from_mtl(const tinyobj::material_t& mtl, const std::string& folder) {
 }
 
 // tinyobjloader reads "nan" or "inf" as 0 without a word; check vertex data ourselves first, so
-// a bad value is an error that names its line.
-void check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
+// a bad value is an error that names its line. Returns the MTL files the OBJ names that exist
+// (tinyobjloader reads those).
+std::vector<std::string> check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
+    std::vector<std::string> mtl_files;
     std::ifstream in(path);
     if (!in) throw InputError(path, 0, "", "cannot open the OBJ file (permissions?)");
     std::string line;
@@ -72,8 +74,10 @@ void check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
                 const std::string mtl =
                     (std::filesystem::path(path).parent_path() / name).lexically_normal().string();
                 std::error_code ec;
-                if (std::filesystem::exists(mtl, ec))
+                if (std::filesystem::exists(mtl, ec)) {
                     check_input_file(mtl, "MTL file", max_bytes, "--max-file-mb");
+                    mtl_files.push_back(mtl);
+                }
             }
             continue;
         }
@@ -109,6 +113,7 @@ void check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
                                  "'" + token + "' is not a finite coordinate");
         }
     }
+    return mtl_files;
 }
 
 }  // namespace
@@ -116,10 +121,11 @@ void check_vertex_numbers(const std::string& path, uint64_t max_bytes) {
 namespace {
 
 // Parses the file with tinyobjloader (triangulated, materials from the MTL beside it); its
-// warnings go to stderr, its errors become an InputError.
-void parse_obj(const std::string& path, uint64_t max_bytes, tinyobj::ObjReader& reader) {
+// warnings go to stderr, its errors become an InputError. Returns the MTL files it read.
+std::vector<std::string> parse_obj(const std::string& path, uint64_t max_bytes,
+                                   tinyobj::ObjReader& reader) {
     check_input_file(path, "OBJ file", max_bytes, "--max-file-mb");
-    check_vertex_numbers(path, max_bytes);
+    std::vector<std::string> mtl_files = check_vertex_numbers(path, max_bytes);
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;
@@ -132,6 +138,7 @@ void parse_obj(const std::string& path, uint64_t max_bytes, tinyobj::ObjReader& 
     std::istringstream warnings(reader.Warning());
     for (std::string line; std::getline(warnings, line);)
         if (!line.empty()) std::cerr << "warning: " << path << ": " << line << "\n";
+    return mtl_files;
 }
 
 // The mesh's vertices, one per distinct (position, normal, uv) triple of the file's indices.
@@ -182,9 +189,10 @@ private:
 
 MeshData load_obj(const std::string& path, uint64_t max_bytes) {
     tinyobj::ObjReader reader;
-    parse_obj(path, max_bytes, reader);
-    const tinyobj::attrib_t& attrib = reader.GetAttrib();
     MeshData mesh;
+    mesh.files = {path};
+    for (std::string& mtl : parse_obj(path, max_bytes, reader)) mesh.files.push_back(std::move(mtl));
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
     for (const tinyobj::material_t& m : reader.GetMaterials())
         mesh.materials.push_back(from_mtl(m, std::filesystem::path(path).parent_path().string()));
     for (size_t i = 0; i < attrib.vertices.size(); ++i)

@@ -22,6 +22,8 @@ struct MeshData {
     std::vector<Face> faces;
     std::vector<Material> materials;  // from the MTL file, mapped onto our material types
     int skipped_degenerate = 0;       // zero-area triangles dropped
+    std::vector<std::string> files;   // the files read: the OBJ, then each MTL it loaded (the
+                                      // images an MTL names are read with the materials)
 };
 
 // Loads and triangulates an OBJ file. Vertices are de-duplicated per (position, normal, uv)

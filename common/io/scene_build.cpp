@@ -1,4 +1,5 @@
 // Stage 2 of scene loading: SceneDescription -> Scene.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -15,10 +16,17 @@ namespace lessons {
 
 namespace {
 
+// Adds a file loading read to the scene's record of its inputs (each file once).
+void record_input(Scene& scene, const std::string& file) {
+    if (std::find(scene.input_files.begin(), scene.input_files.end(), file) ==
+        scene.input_files.end())
+        scene.input_files.push_back(file);
+}
+
 // Reads the image a material's albedo names (once per file), and checks what needed its texels:
 // a glossy material's albedo + specular at most 1.
 void read_albedo_texture(Material& m, const SourceLocation& where, const InputLimits& limits,
-                         TextureCache& textures) {
+                         TextureCache& textures, Scene& scene) {
     if (m.albedo.image_file.empty() || m.albedo.image) return;
     auto it = textures.find(m.albedo.image_file);
     if (it == textures.end()) {
@@ -30,6 +38,7 @@ void read_albedo_texture(Material& m, const SourceLocation& where, const InputLi
         } catch (const InputError& e) {
             throw InputError(where.file, where.line, where.field, e.what());
         }
+        record_input(scene, m.albedo.image_file);
     }
     m.albedo.image = it->second;
     if (m.type == MaterialType::Glossy && max_component(m.albedo.maximum() + m.specular) > 1.0f)
@@ -46,6 +55,7 @@ void read_environment_map(const SceneDescription& d, const InputLimits& limits, 
     try {
         check_input_file(d.background_map, "environment map", limits.file_bytes(), "--max-file-mb");
         image = read_exr(d.background_map);
+        record_input(scene, d.background_map);
     } catch (const InputError& e) {
         throw InputError(w.file, w.line, w.field, e.what());
     } catch (const std::runtime_error& e) {
@@ -129,6 +139,7 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
             // Name both the OBJ problem and the scene line that asked for the file.
             throw InputError(s.file_where.file, s.file_where.line, s.file_where.field, e.what());
         }
+        for (const std::string& f : cached->second.files) record_input(scene, f);
         if (cached->second.skipped_degenerate > 0)
             std::cerr << "warning: " << s.file << ": skipped " << cached->second.skipped_degenerate
                       << " zero-area triangle(s)\n";
@@ -143,7 +154,7 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
             continue;
         }
         Material m = mesh.materials[i];  // its map_Kd, if any, is read here
-        read_albedo_texture(m, s.file_where, limits, textures);
+        read_albedo_texture(m, s.file_where, limits, textures, scene);
         mtl_to_scene[i] = scene.add_material(m);
     }
     std::vector<Triangle> triangles;
@@ -175,15 +186,19 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
 using GltfCache = std::map<std::string, std::shared_ptr<const GltfScene>>;
 
 std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const SourceLocation& where,
-                                                const InputLimits& limits, GltfCache& cache) {
+                                                const InputLimits& limits, GltfCache& cache,
+                                                Scene& scene) {
     auto it = cache.find(file);
     if (it != cache.end()) return it->second;
+    std::shared_ptr<const GltfScene> g;
     try {
-        auto g = std::make_shared<const GltfScene>(load_gltf(file, limits.file_bytes()));
-        return cache.emplace(file, g).first->second;
+        g = std::make_shared<const GltfScene>(load_gltf(file, limits.file_bytes()));
     } catch (const InputError& e) {
         throw InputError(where.file, where.line, where.field, e.what());
     }
+    record_input(scene, file);
+    for (const std::string& f : g->files) record_input(scene, f);
+    return cache.emplace(file, g).first->second;
 }
 
 // A glTF placed by its shape's transform: each primitive's node transform, then the shape's, in
@@ -191,12 +206,12 @@ std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const S
 void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
               const InputLimits& limits, GltfCache& cache, TextureCache& textures) {
     const std::shared_ptr<const GltfScene> g =
-        s.gltf ? s.gltf : read_gltf_once(s.file, s.file_where, limits, cache);
+        s.gltf ? s.gltf : read_gltf_once(s.file, s.file_where, limits, cache, scene);
     std::vector<uint32_t> materials(g->materials.size());
     for (size_t i = 0; i < g->materials.size(); ++i) {
         if (override_material >= 0) break;
         Material m = g->materials[i];
-        read_albedo_texture(m, s.file_where, limits, textures);
+        read_albedo_texture(m, s.file_where, limits, textures, scene);
         materials[i] = scene.add_material(m);
     }
     int flattened = 0;
@@ -278,6 +293,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     Scene scene;
     scene.source = d.file;
     scene.notes = d.notes;
+    scene.input_files = d.files_read;
     scene.width = options.width > 0 ? options.width : d.width;
     scene.height = options.height > 0 ? options.height : d.height;
     scene.background = d.background;
@@ -290,7 +306,7 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     TextureCache textures;
     for (const MaterialDescription& m : d.materials) {
         Material material = m.material;
-        read_albedo_texture(material, m.albedo_where, options.limits, textures);
+        read_albedo_texture(material, m.albedo_where, options.limits, textures, scene);
         material_ids[m.material.name] = scene.add_material(material);
         material_names.push_back(m.material.name);
     }

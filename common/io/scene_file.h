@@ -83,6 +83,9 @@ struct SceneDescription {
     std::vector<ShapeDescription> shapes;
     std::vector<PointLightDescription> point_lights;
     std::vector<std::string> notes;  // what loading approximated (Scene::notes)
+    // The files stage 1 read: the scene file; for a glTF file taken as the whole scene, that
+    // file and the buffers and images it names. Stage 2 adds what it reads (Scene::input_files).
+    std::vector<std::string> files_read;
 };
 
 // A box shape as its six faces, each a quad whose front side, cross(edge_u, edge_v), faces out
@@ -94,10 +97,6 @@ std::array<Quad, 6> box_faces(const ShapeDescription& box);
 SceneDescription parse_scene_file(const std::string& path, const InputLimits& limits = {});
 SceneDescription parse_scene_string(const std::string& toml_text, const std::string& name);
 
-// The files a scene is made of: its scene file, then every mesh, texture and map it names (an
-// OBJ's MTL file and the images the MTL names are not followed).
-std::vector<std::string> scene_input_files(const SceneDescription& scene);
-
 struct BuildOptions {
     BuildOptions(int w = 0, int h = 0, InputLimits l = {}, int t = 0)
         : width(w), height(h), limits(l), threads(t) {}
@@ -106,11 +105,12 @@ struct BuildOptions {
     int threads = 0;            // that build the BVH (0: every hardware thread; the same tree)
 };
 
-// Stage 2. Throws InputError. Warnings (e.g. skipped degenerate triangles) go to stderr.
+// Stage 2. Throws InputError. Warnings (e.g. skipped degenerate triangles) go to stderr. The
+// scene's input_files are the description's files_read, then every file stage 2 read.
 Scene build_scene(const SceneDescription& description, const BuildOptions& options = {});
 
 // Stage 1 for any scene file: a TOML scene, or a glTF/GLB file as a whole scene (its camera,
-// or a default one framing it).
+// or a default one framing it). The one place that tells the two apart.
 SceneDescription describe_scene_file(const std::string& path, const InputLimits& limits = {});
 
 // Both stages.

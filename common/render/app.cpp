@@ -533,7 +533,7 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     in.model = lesson.make_model(in.scene);
     in.model.notes.insert(in.model.notes.end(), in.scene.notes.begin(), in.scene.notes.end());
     // What a part belongs to, taken now: a scene edited while the part renders is not its scene.
-    if (o.is_part()) in.scene_hash = scene_files_hash(o.scene, o.limits);
+    if (o.is_part()) in.scene_hash = scene_files_hash(in.scene, o.limits);
     if (in.model.splatting && o.part.crops(in.scene))
         throw InputError("command line", 0, "--pixels",
                          lesson.name + " splats light from every pixel's light subpath onto "

@@ -13,9 +13,8 @@
 #include <map>
 #include <stdexcept>
 
-#include "io/input_error.h"
-#include "io/gltf_file.h"
 #include "io/image.h"
+#include "io/input_error.h"
 #include "io/input_file.h"
 #include "io/scene_file.h"
 
@@ -457,22 +456,9 @@ std::string PartHeader::samples_text() const {
     return std::to_string(sample_begin) + ":" + std::to_string(sample_end);
 }
 
-std::string scene_files_hash(const std::string& scene_file, const InputLimits& limits) {
+std::string scene_files_hash(const Scene& scene, const InputLimits& limits) {
     uint64_t h = kFnvStart;
-    std::vector<std::string> files;
-    if (is_gltf_file(scene_file)) {
-        files = {scene_file};
-    } else {
-        const SceneDescription d = parse_scene_file(scene_file, limits);
-        files = scene_input_files(d);
-    }
-    // A glTF's external buffers and images are its inputs too.
-    for (size_t i = 0, n = files.size(); i < n; ++i)
-        if (is_gltf_file(files[i])) {
-            const GltfScene g = load_gltf(files[i], limits.file_bytes());
-            files.insert(files.end(), g.files.begin(), g.files.end());
-        }
-    for (const std::string& f : files) {
+    for (const std::string& f : scene.input_files) {
         check_input_file(f, "file the scene names", limits.file_bytes(), "--max-file-mb");
         std::ifstream in(f, std::ios::binary);
         if (!in) throw InputError(f, 0, "", "cannot be read (permissions?)");

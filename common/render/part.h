@@ -17,6 +17,7 @@
 
 #include "io/input_file.h"
 #include "render/film.h"
+#include "scene/scene.h"
 
 namespace lessons {
 
@@ -58,9 +59,9 @@ void write_part(const std::string& path, const PartHeader& header, std::span<con
 // InputError naming the file and the field for anything wrong with it.
 PartFile read_part(const std::string& path, bool with_pixels = true);
 
-// The hash of a scene's files (scene_input_files, read under `limits`), as 16 hex digits.
-// Throws InputError if one cannot be read.
-std::string scene_files_hash(const std::string& scene_file, const InputLimits& limits);
+// The hash of the files a scene was made of (Scene::input_files, read again under `limits`), as
+// 16 hex digits. Throws InputError if one cannot be read.
+std::string scene_files_hash(const Scene& scene, const InputLimits& limits);
 // What made a part: the hash of this executable's file, and this CPU's model name. Parts made
 // by other builds or CPUs still merge, but their bits may differ (docs/farm.md).
 std::string this_build();

@@ -152,6 +152,10 @@ public:
     bool has_environment() const { return environment_map || !is_black(background); }
     NaiveMethods naive;      // for demonstrations only
     std::string source;      // the file it came from, for messages and reports
+    // Every file it was made of, each once, in the order loading read them: the scene file,
+    // meshes and their MTL files, textures, the environment map, glTF files and the buffers and
+    // images they name. What the farm's scene hash and the studio's reference cache key cover.
+    std::vector<std::string> input_files;
     // What loading approximated or ignored (a glTF file's materials, its camera): every lesson
     // adds these to its notes.
     std::vector<std::string> notes;

@@ -87,21 +87,12 @@ std::string scene_description(const std::string& path) {
     return "";
 }
 
-// The files a scene is made of: the scene file and every mesh, texture and map it names.
-std::vector<std::string> scene_inputs(const std::string& scene) {
-    try {
-        return scene_input_files(parse_scene_file(scene));
-    } catch (const std::exception&) {
-        // (A scene that does not parse renders nothing; the scene file alone names it.)
-        return {scene};
-    }
-}
-
-// What a cached reference depends on: the scene file's bytes, and the size and time of every
-// file it names (an OBJ's MTL and map_Kd images are not followed).
-uint64_t inputs_hash(const std::string& scene) {
-    uint64_t h = file_hash(scene);
-    for (const std::string& f : scene_inputs(scene)) {
+// What a cached reference depends on: the size and time of every file the loaded scene was made
+// of (Scene::input_files: the scene file, meshes, MTL files, textures, maps, glTF buffers and
+// images), and the scene file's bytes.
+uint64_t inputs_hash(const std::vector<std::string>& inputs) {
+    uint64_t h = inputs.empty() ? kFnvStart : file_hash(inputs.front());
+    for (const std::string& f : inputs) {
         std::error_code ec;
         const auto size = fs::file_size(f, ec);
         const auto time = fs::last_write_time(f, ec).time_since_epoch().count();
@@ -114,9 +105,9 @@ uint64_t inputs_hash(const std::string& scene) {
 }
 
 // The newest modification among a scene's files: a reference older than it is stale.
-fs::file_time_type newest_input(const std::string& scene) {
+fs::file_time_type newest_input(const std::vector<std::string>& inputs) {
     fs::file_time_type newest = fs::file_time_type::min();
-    for (const std::string& f : scene_inputs(scene)) {
+    for (const std::string& f : inputs) {
         std::error_code ec;
         const fs::file_time_type t = fs::last_write_time(f, ec);
         if (!ec && t > newest) newest = t;
@@ -187,12 +178,13 @@ struct FoundReference {
     double noise = 0.0;
 };
 std::optional<FoundReference> read_reference_file(const fs::path& exr, const fs::path& variance,
-                                                  int width, int height, const std::string& scene,
+                                                  int width, int height,
+                                                  const std::vector<std::string>& inputs,
                                                   const std::string& source) {
     std::error_code ec;
     if (!fs::is_regular_file(exr, ec)) return std::nullopt;
     // Older than the scene file or a file it names: rendered from another version of them.
-    if (fs::last_write_time(exr, ec) < newest_input(scene)) return std::nullopt;
+    if (fs::last_write_time(exr, ec) < newest_input(inputs)) return std::nullopt;
     try {
         auto image = std::make_shared<Image>(read_exr(exr.string()));
         if (image->width != width || image->height != height) return std::nullopt;
@@ -207,14 +199,15 @@ std::optional<FoundReference> read_reference_file(const fs::path& exr, const fs:
     }
 }
 
-std::string cache_stem(const std::string& cache, const SceneEntry& scene, int width, int height,
-                       float albedo, int spp) {
+std::string cache_stem(const std::string& cache, const SceneEntry& scene,
+                       const std::vector<std::string>& inputs, int width, int height, float albedo,
+                       int spp) {
     std::string name = scene.id;
     std::replace(name.begin(), name.end(), '/', '_');
     if (albedo >= 0.0f) name += "_albedo" + std::to_string(albedo);
     char buf[64];
     std::snprintf(buf, sizeof buf, "_%dx%d_%dspp_%016llx", width, height, spp,
-                  static_cast<unsigned long long>(inputs_hash(scene.path)));
+                  static_cast<unsigned long long>(inputs_hash(inputs)));
     return (fs::path(cache) / (name + buf)).string();
 }
 
@@ -464,6 +457,7 @@ uint64_t Studio::start(int pane_index, const Params& params, uint64_t generation
     for (const SceneEntry& s : scenes_)
         if (s.id == state->scene_id) scene = &s;
     const int w = state->inputs.scene.width, h = state->inputs.scene.height;
+    const std::vector<std::string>& inputs = state->inputs.scene.input_files;
     // The reference: lessons.sh's for this scene and size, the studio's own, or one to render.
     // (lessons.sh renders the scenes as they are: no reference of theirs has --albedo.)
     const float albedo = state->options.albedo;
@@ -471,11 +465,12 @@ uint64_t Studio::start(int pane_index, const Params& params, uint64_t generation
     const fs::path lessons_dir = fs::path(references_) / fs::path(scene->path).stem();
     if (albedo < 0.0f)
         found = read_reference_file(lessons_dir / "reference.exr",
-                                    lessons_dir / "reference_variance.exr", w, h, scene->path,
+                                    lessons_dir / "reference_variance.exr", w, h, inputs,
                                     "scripts/lessons.sh:");
     if (!found) {
-        const std::string stem = cache_stem(cache_, *scene, w, h, albedo, limits_.reference_spp);
-        found = read_reference_file(stem + ".exr", stem + "_variance.exr", w, h, scene->path,
+        const std::string stem =
+            cache_stem(cache_, *scene, inputs, w, h, albedo, limits_.reference_spp);
+        found = read_reference_file(stem + ".exr", stem + "_variance.exr", w, h, inputs,
                                     "the studio's cache:");
     }
     if (found) {
@@ -564,7 +559,8 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
     for (const SceneEntry& s : scenes_)
         if (s.id == scene_id)
             state->reference_path =
-                cache_stem(cache_, s, width, height, albedo, limits_.reference_spp);
+                cache_stem(cache_, s, state->inputs.scene.input_files, width, height, albedo,
+                           limits_.reference_spp);
     state->films =
         std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model, 0.0f);
     state->settings = render_settings(state->options);
