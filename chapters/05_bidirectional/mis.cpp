@@ -31,10 +31,11 @@ double abs_cos(const Vertex& v, const Vertex& w) {
 // A chain of mirror or glass vertices x_i .. x_j between two vertices that scatter
 // non-deltas, x_{i-1} and x_{j+1}, is made the same way from both sides, so its own densities
 // are left out (1). What differs is where the chain lands: a direction sampled at x_{i-1} with
-// density p (per steradian) reaches x_{j+1} with density p |cos| / D^2 per unit area, D the
-// chain's unfolded length (exact for flat mirrors; refraction and curved glass also change the
-// solid angle, which this leaves out: a matter of efficiency, as any weights that sum to one
-// keep the estimate unbiased). Without it, a vertex right beside a glass ball (a floor it touches) would look far
+// density p (per steradian) reaches x_{j+1} with density p |cos| / D^2 per unit area (the
+// conversion from solid angle to area, Veach 1997, eq. 8.10), D the chain's unfolded length
+// (exact for flat mirrors; refraction and curved glass also change the solid angle, which this
+// leaves out: a matter of efficiency, as any weights that sum to one keep the estimate
+// unbiased). Without it, a vertex right beside a glass ball (a floor it touches) would look far
 // likelier to be found from the camera than it is.
 template <class VertexAt>
 void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) {
@@ -129,9 +130,9 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     };
     // p_k / p_s = (x_0's density in strategy k / in s) times the ratio of the rest, m, which
     // changes by p_L(x_i) / p_C(x_i) as the join moves past x_i (i >= 1) towards the camera,
-    // and back as it moves towards the light. A zero on the way makes every strategy beyond it
-    // impossible, and its ratio 0. Strategies that would join at a mirror or glass have no
-    // density to meet and are left out.
+    // and back as it moves towards the light (Veach 1997, eq. 10.9). A zero on the way makes
+    // every strategy beyond it impossible, and its ratio 0. Strategies that would join at a
+    // mirror or glass have no density to meet and are left out.
     const double own_x0 = divisor(x0_density(s));
     double sum = 0.0;
     double m = 1.0;
@@ -146,6 +147,8 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
         const double ratio = x0_density(k) / own_x0 * m;
         if (k == 0 || (!d[k - 1].delta && !d[k].delta)) sum += ratio * ratio;
     }
+    // The power heuristic (Veach 1997, section 9.2): 1 / sum over all k of (p_k / p_s)^2, the
+    // strategy's own term being 1.
     return static_cast<float>(1.0 / (1.0 + sum));
 }
 
