@@ -13,7 +13,7 @@
 // two walls in one leaf have a box the size of the room, while each wall alone has a flat box
 // that only the rays crossing it enter. A leaf's triangles are tested together, four at once
 // (TriangleBlock), for about the cost of one test, hence the ceil(n / 4); the n / 4 keeps the
-// leaves of small scenes tight (bvh.cpp, leaf_cost).
+// leaves of small scenes tight (bvh_build.h, leaf_cost).
 // Layout: the binary tree is then collapsed into an 8-wide one (Dammertz et al., "Shallow
 // Bounding Volume Hierarchies for Fast SIMD Ray Tracing of Incoherent Rays", 2008; Embree's
 // BVH8): a node holds the boxes of up to eight children side by side, the x minima of all eight,
@@ -129,7 +129,7 @@ public:
     // gaps hold kPadding.
     static constexpr uint32_t kLeafAlignment = 4;
     static constexpr uint32_t kPadding = 0xFFFFFFFFu;
-    // Deepest possible binary tree: SAH splits down to depth 64 (bvh.cpp), then median splits,
+    // Deepest possible binary tree: SAH splits down to depth 64 (bvh_binary.cpp), then median splits,
     // at most 32 more levels for 2^32 primitives. The wide tree is no deeper, and a visit
     // pushes at most kBvhWidth - 1 more entries than it pops.
     static constexpr int kMaxDepth = 96;
