@@ -101,43 +101,181 @@ std::string format_number(double v) {
     return buf;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    CLI::App app("Compare an image with a reference: error metrics, error image, side by side",
-                 "compare");
+// The command line.
+struct Options {
     std::string image_path, reference_path, out;
     double scale = 0.0;
-    app.add_option("image", image_path, "The image to judge (EXR or PNG)")->required();
-    app.add_option("reference", reference_path, "The reference (EXR or PNG)")->required();
     std::string second_half;
-    app.add_option("--second-half", second_half,
+    std::string variance_path, reference_variance_path;
+    int blocks = 0;
+    std::string image_second_half;
+};
+
+void declare_options(CLI::App& app, Options& o) {
+    app.add_option("image", o.image_path, "The image to judge (EXR or PNG)")->required();
+    app.add_option("reference", o.reference_path, "The reference (EXR or PNG)")->required();
+    app.add_option("--second-half", o.second_half,
                    "A second, independent reference render: the reference becomes the mean of "
                    "the two, and its own noise is subtracted from the MSE");
-    std::string variance_path, reference_variance_path;
-    app.add_option("--variance", variance_path,
+    app.add_option("--variance", o.variance_path,
                    "The image's per-pixel variance of the mean (a lesson's --variance EXR): with "
                    "it, \"bias2\" estimates the MSE the image converges to, its squared bias: "
                    "mse minus the mean variance of the image and of the reference (renders of "
                    "--sampler independent: a stratified sampler's variance image is not its "
                    "error)");
-    app.add_option("--reference-variance", reference_variance_path,
+    app.add_option("--reference-variance", o.reference_variance_path,
                    "The reference's per-pixel variance of the mean, for bias2");
-    int blocks = 0;
-    std::string image_second_half;
-    app.add_option("--blocks", blocks,
+    app.add_option("--blocks", o.blocks,
                    "Also compare the image's mean with the reference's, whole and in blocks of "
                    "this many pixels square: mean_ratio and the block ratios' range, and with "
                    "both second halves their standard errors")
         ->check(CLI::Range(1, 1 << 20));
-    app.add_option("--image-second-half", image_second_half,
+    app.add_option("--image-second-half", o.image_second_half,
                    "A second, independent render of the image: with --blocks, the image is the "
                    "mean of the two, and the noise of its means is estimated from them");
-    app.add_option("--out", out, "Write PREFIX_error.png and PREFIX_side_by_side.png");
-    app.add_option("--scale", scale,
+    app.add_option("--out", o.out, "Write PREFIX_error.png and PREFIX_side_by_side.png");
+    app.add_option("--scale", o.scale,
                    "Error mapped to the top of the colour map (default: 99th "
                    "percentile)")
         ->check(CLI::PositiveNumber);
+}
+
+// With --image-second-half, the image becomes the mean of its two halves.
+void average_image_halves(const Options& o, Image& image, const Image& image_b) {
+    if (o.image_second_half.empty()) return;
+    if (image_b.width != image.width || image_b.height != image.height)
+        throw InputError(o.image_second_half, 0, "", "not the image's size");
+    for (size_t i = 0; i < image.pixels.size(); ++i)
+        image.pixels[i] = 0.5f * (image.pixels[i] + image_b.pixels[i]);
+}
+
+// With --second-half, the reference becomes the mean of its two halves A and B; returns that
+// mean's own noise, its per-pixel variance MSE(A, B) / 4 (0 without a second half).
+double average_reference_halves(const Options& o, Image& reference, const Image& b) {
+    if (o.second_half.empty()) return 0.0;
+    const double reference_noise = compare_images(b, reference, o.second_half).mse / 4.0;
+    for (size_t i = 0; i < reference.pixels.size(); ++i)
+        reference.pixels[i] = 0.5f * (reference.pixels[i] + b.pixels[i]);
+    return reference_noise;
+}
+
+// With --variance: E[d^2] = bias^2 + Var(image) + Var(reference) per channel, for independent
+// renders: what is left after the variances is the error more samples cannot remove.
+void print_bias(const Options& o, const ErrorMetrics& m, const Image& image) {
+    double noise = mean_value(read_image(o.variance_path), o.variance_path, image);
+    if (!o.reference_variance_path.empty())
+        noise +=
+            mean_value(read_image(o.reference_variance_path), o.reference_variance_path, image);
+    std::printf(", \"noise_mse\": %.9g, \"bias2\": %.9g", noise, m.mse - noise);
+}
+
+// With --second-half: the MSE less the reference's own noise.
+void print_corrected(const ErrorMetrics& m, double reference_noise) {
+    const double corrected = m.mse - reference_noise;
+    std::printf(
+        ", \"reference_noise_mse\": %.9g, \"mse_corrected\": %.9g, "
+        "\"rmse_corrected\": %.9g",
+        reference_noise, corrected, std::sqrt(std::max(0.0, corrected)));
+}
+
+// With --blocks: the means compared, whole and block by block.
+void print_means(const MeanComparison& c) {
+    std::printf(
+        ", \"block\": %d, \"blocks\": %d, \"blocks_compared\": %d, \"image_mean\": %.9g, "
+        "\"reference_mean\": %.9g, \"mean_ratio\": %.9g, \"mean_ratio_noise\": %.3g, "
+        "\"block_ratio_min\": %.9g, \"block_ratio_max\": %.9g, "
+        "\"block_ratio_noise\": %.3g, \"worst_block\": [%d, %d], "
+        "\"worst_block_ratio\": %.9g, \"worst_block_ratio_noise\": %.3g",
+        c.block, c.blocks_x * c.blocks_y, c.blocks_compared, c.image_mean, c.reference_mean,
+        c.mean_ratio, c.mean_ratio_noise, c.ratio_min, c.ratio_max, c.block_ratio_noise, c.worst_x,
+        c.worst_y, c.worst_ratio, c.worst_ratio_noise);
+}
+
+// Reads the images, makes each the mean of its halves where two are given, and prints the metrics
+// as one JSON line; `image` and `reference` are left as they were compared.
+void print_metrics(const Options& o, Image& image, Image& reference) {
+    image = read_image(o.image_path);
+    reference = read_image(o.reference_path);
+    Image image_b, reference_b;
+    if (!o.image_second_half.empty()) image_b = read_image(o.image_second_half);
+    if (!o.second_half.empty()) reference_b = read_image(o.second_half);
+    // The block means see both halves themselves (their noise comes from the difference).
+    std::optional<MeanComparison> means;
+    if (o.blocks > 0)
+        means = compare_means(image, reference, o.blocks,
+                              o.image_second_half.empty() ? nullptr : &image_b,
+                              o.second_half.empty() ? nullptr : &reference_b);
+    average_image_halves(o, image, image_b);
+    const double reference_noise = average_reference_halves(o, reference, reference_b);
+    const ErrorMetrics m = compare_images(image, reference, o.image_path);
+    std::printf("{\"mse\": %.9g, \"rmse\": %.9g, \"relmse\": %.9g, \"mae\": %.9g", m.mse, m.rmse,
+                m.relmse, m.mae);
+    if (!o.variance_path.empty()) print_bias(o, m, image);
+    if (!o.second_half.empty()) print_corrected(m, reference_noise);
+    if (means) print_means(*means);
+    std::printf("}\n");
+}
+
+constexpr int kBar = 14, kLabel = 16;  // the colour bar and its numbers beneath the image
+
+// The per-pixel error of a w x h image in the viridis colour map, 0 to `scale`, with the scale
+// drawn beneath.
+Canvas error_canvas(const std::vector<float>& error, int w, int h, double scale) {
+    Canvas error_png(w, h + kBar + kLabel);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            error_png.set(
+                x, y, viridis(static_cast<float>(error[static_cast<size_t>(y) * w + x] / scale)));
+    for (int x = 0; x < w; ++x)
+        for (int y = h + 2; y < h + kBar; ++y)
+            error_png.set(x, y, viridis(static_cast<float>(x) / (w - 1)));
+    const std::string top = format_number(scale) + "+";
+    error_png.text(2, h + kBar + 2, "0", 2);
+    error_png.text(w - 8 * static_cast<int>(top.size()) - 2, h + kBar + 2, top, 2);
+    return error_png;
+}
+
+// image | reference | error.
+Canvas side_by_side(const Image& image, const Image& reference, const Canvas& error_png) {
+    const int w = image.width, h = image.height;
+    Canvas side(3 * w + 8, h + kBar + kLabel);
+    side.image(0, 0, image);
+    side.image(w + 4, 0, reference);
+    for (int y = 0; y < error_png.height; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = (static_cast<size_t>(y) * w + x) * 3;
+            side.set(2 * w + 8 + x, y,
+                     {error_png.rgb[i], error_png.rgb[i + 1], error_png.rgb[i + 2]});
+        }
+    return side;
+}
+
+// With --out: PREFIX_error.png and PREFIX_side_by_side.png; the exit status.
+int write_error_images(const Options& o, const Image& image, const Image& reference) {
+    const std::vector<float> error = pixel_errors(image, reference);
+    double scale = o.scale;
+    if (scale <= 0.0) scale = error_map_scale(error);
+    const Canvas error_png = error_canvas(error, image.width, image.height, scale);
+    const Canvas side = side_by_side(image, reference, error_png);
+    try {
+        write_png_bytes(o.out + "_error.png", error_png.width, error_png.height, error_png.rgb);
+        write_png_bytes(o.out + "_side_by_side.png", side.width, side.height, side.rgb);
+    } catch (const std::exception& e) {
+        std::cerr << "compare: error: " << e.what() << "\n";
+        return 1;
+    }
+    std::fprintf(stderr, "compare: error scale 0 .. %g (RMS over channels, linear radiance)\n",
+                 scale);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app("Compare an image with a reference: error metrics, error image, side by side",
+                 "compare");
+    Options o;
+    declare_options(app, o);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -147,103 +285,12 @@ int main(int argc, char** argv) {
         return 2;
     }
     Image image, reference;
-    ErrorMetrics m;
     try {
-        image = read_image(image_path);
-        reference = read_image(reference_path);
-        double reference_noise = 0.0;
-        Image image_b, reference_b;
-        if (!image_second_half.empty()) image_b = read_image(image_second_half);
-        if (!second_half.empty()) reference_b = read_image(second_half);
-        // The block means see both halves themselves (their noise comes from the difference).
-        std::optional<MeanComparison> means;
-        if (blocks > 0)
-            means = compare_means(image, reference, blocks,
-                                  image_second_half.empty() ? nullptr : &image_b,
-                                  second_half.empty() ? nullptr : &reference_b);
-        if (!image_second_half.empty()) {
-            if (image_b.width != image.width || image_b.height != image.height)
-                throw InputError(image_second_half, 0, "", "not the image's size");
-            for (size_t i = 0; i < image.pixels.size(); ++i)
-                image.pixels[i] = 0.5f * (image.pixels[i] + image_b.pixels[i]);
-        }
-        if (!second_half.empty()) {
-            const Image& b = reference_b;
-            reference_noise = compare_images(b, reference, second_half).mse / 4.0;
-            for (size_t i = 0; i < reference.pixels.size(); ++i)
-                reference.pixels[i] = 0.5f * (reference.pixels[i] + b.pixels[i]);
-        }
-        m = compare_images(image, reference, image_path);
-        std::printf("{\"mse\": %.9g, \"rmse\": %.9g, \"relmse\": %.9g, \"mae\": %.9g", m.mse,
-                    m.rmse, m.relmse, m.mae);
-        if (!variance_path.empty()) {
-            // E[d^2] = bias^2 + Var(image) + Var(reference) per channel, for independent
-            // renders: what is left after the variances is the error more samples cannot remove.
-            double noise = mean_value(read_image(variance_path), variance_path, image);
-            if (!reference_variance_path.empty())
-                noise +=
-                    mean_value(read_image(reference_variance_path), reference_variance_path, image);
-            std::printf(", \"noise_mse\": %.9g, \"bias2\": %.9g", noise, m.mse - noise);
-        }
-        if (!second_half.empty()) {
-            const double corrected = m.mse - reference_noise;
-            std::printf(
-                ", \"reference_noise_mse\": %.9g, \"mse_corrected\": %.9g, "
-                "\"rmse_corrected\": %.9g",
-                reference_noise, corrected, std::sqrt(std::max(0.0, corrected)));
-        }
-        if (means) {
-            const MeanComparison& c = *means;
-            std::printf(
-                ", \"block\": %d, \"blocks\": %d, \"blocks_compared\": %d, \"image_mean\": %.9g, "
-                "\"reference_mean\": %.9g, \"mean_ratio\": %.9g, \"mean_ratio_noise\": %.3g, "
-                "\"block_ratio_min\": %.9g, \"block_ratio_max\": %.9g, "
-                "\"block_ratio_noise\": %.3g, \"worst_block\": [%d, %d], "
-                "\"worst_block_ratio\": %.9g, \"worst_block_ratio_noise\": %.3g",
-                c.block, c.blocks_x * c.blocks_y, c.blocks_compared, c.image_mean,
-                c.reference_mean, c.mean_ratio, c.mean_ratio_noise, c.ratio_min, c.ratio_max,
-                c.block_ratio_noise, c.worst_x, c.worst_y, c.worst_ratio, c.worst_ratio_noise);
-        }
-        std::printf("}\n");
+        print_metrics(o, image, reference);
     } catch (const std::exception& e) {
         std::cerr << "compare: error: " << e.what() << "\n";
         return 2;
     }
-    if (out.empty()) return 0;
-
-    const std::vector<float> error = pixel_errors(image, reference);
-    if (scale <= 0.0) scale = error_map_scale(error);
-    const int w = image.width, h = image.height;
-    const int bar = 14, label = 16;  // the colour bar and its numbers beneath the image
-    Canvas error_png(w, h + bar + label);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            error_png.set(
-                x, y, viridis(static_cast<float>(error[static_cast<size_t>(y) * w + x] / scale)));
-    for (int x = 0; x < w; ++x)
-        for (int y = h + 2; y < h + bar; ++y)
-            error_png.set(x, y, viridis(static_cast<float>(x) / (w - 1)));
-    const std::string top = format_number(scale) + "+";
-    error_png.text(2, h + bar + 2, "0", 2);
-    error_png.text(w - 8 * static_cast<int>(top.size()) - 2, h + bar + 2, top, 2);
-
-    Canvas side(3 * w + 8, h + bar + label);
-    side.image(0, 0, image);
-    side.image(w + 4, 0, reference);
-    for (int y = 0; y < error_png.height; ++y)
-        for (int x = 0; x < w; ++x) {
-            const size_t i = (static_cast<size_t>(y) * w + x) * 3;
-            side.set(2 * w + 8 + x, y,
-                     {error_png.rgb[i], error_png.rgb[i + 1], error_png.rgb[i + 2]});
-        }
-    try {
-        write_png_bytes(out + "_error.png", error_png.width, error_png.height, error_png.rgb);
-        write_png_bytes(out + "_side_by_side.png", side.width, side.height, side.rgb);
-    } catch (const std::exception& e) {
-        std::cerr << "compare: error: " << e.what() << "\n";
-        return 1;
-    }
-    std::fprintf(stderr, "compare: error scale 0 .. %g (RMS over channels, linear radiance)\n",
-                 scale);
-    return 0;
+    if (o.out.empty()) return 0;
+    return write_error_images(o, image, reference);
 }
