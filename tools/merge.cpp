@@ -71,20 +71,21 @@ Merged merge(const std::vector<PartFile>& parts) {
     return m;
 }
 
-void write_outputs(const Options& o, const std::vector<PartFile>& parts, const Merged& m,
-                   const Coverage& coverage, bool preview) {
-    const PartHeader& h = parts[0].header;
-    // The error against --reference first: a bad reference writes nothing.
-    std::optional<ErrorMetrics> error;
-    if (!o.reference.empty()) {
-        Image reference;
-        try {
-            reference = read_exr(o.reference);
-        } catch (const std::runtime_error& e) {
-            throw InputError("command line", 0, "--reference", e.what());
-        }
-        error = compare_images(m.image, reference, "--reference " + o.reference);
+// The error of the merged image against --reference, if there is one.
+std::optional<ErrorMetrics> reference_error(const Options& o, const Image& image) {
+    if (o.reference.empty()) return std::nullopt;
+    Image reference;
+    try {
+        reference = read_exr(o.reference);
+    } catch (const std::runtime_error& e) {
+        throw InputError("command line", 0, "--reference", e.what());
     }
+    return compare_images(image, reference, "--reference " + o.reference);
+}
+
+// PREFIX.exr and PREFIX.png, each layer's PREFIX_NAME.exr and .png, and with --variance the
+// image's per-pixel variance of the mean.
+void write_images(const Options& o, const PartHeader& h, const Merged& m) {
     const float exposure = o.exposure_given ? o.exposure : h.exposure;
     const std::filesystem::path dir = std::filesystem::path(o.out).parent_path();
     if (!dir.empty()) std::filesystem::create_directories(dir);
@@ -95,18 +96,32 @@ void write_outputs(const Options& o, const std::vector<PartFile>& parts, const M
         write_png(m.layers[k], o.out + "_" + h.films[k + 1] + ".png", exposure);
     }
     if (!o.variance.empty()) write_exr(m.films[0].variance_of_mean(), o.variance + ".exr");
+}
 
+// The parts' figures together: rendering time in all and of the slowest part, rays, and whether
+// any part was interrupted.
+struct PartTotals {
     double seconds = 0.0, slowest = 0.0;
     uint64_t rays = 0;
     bool partial = false;
+};
+
+PartTotals part_totals(const std::vector<PartFile>& parts) {
+    PartTotals t;
     for (const PartFile& p : parts) {
-        seconds += p.header.seconds;
-        slowest = std::max(slowest, p.header.seconds);
-        rays += p.header.rays;
-        partial = partial || p.header.partial();
+        t.seconds += p.header.seconds;
+        t.slowest = std::max(t.slowest, p.header.seconds);
+        t.rays += p.header.rays;
+        t.partial = t.partial || p.header.partial();
     }
-    const Film& film = m.films[0];
-    Report report;
+    return t;
+}
+
+// The report's account of the run: what was merged, from which parts, in how long, and the
+// merged film's invalid pixels and samples.
+void report_run(Report& report, const Options& o, const std::vector<PartFile>& parts,
+                const Film& film, const Coverage& coverage, bool preview, const PartTotals& t) {
+    const PartHeader& h = parts[0].header;
     report.set("chapter", h.lesson);
     report.set("scene", h.scene);
     report.set("width", h.image_width);
@@ -115,47 +130,66 @@ void write_outputs(const Options& o, const std::vector<PartFile>& parts, const M
     report.set("preview", preview);
     if (preview) report.set("spp_max", coverage.spp_max);
     report.set("parts", static_cast<int>(parts.size()));
-    report.set("partial_parts", partial);
+    report.set("partial_parts", t.partial);
     const std::string mixed = mixed_builds(parts);
     report.set("one_build_and_cpu", mixed.empty());
     report.set("firefly_pixels", film.firefly_pixels());
     report.set("biased", !h.bias.empty());
     report.set("bias", h.bias);
     report.set("seed", h.seed);
-    report.set("seconds", seconds);
-    report.set("wall_seconds", slowest);
-    report.set("rays", rays);
-    report.set("mrays_per_second", seconds > 0.0 ? rays / seconds * 1e-6 : 0.0);
+    report.set("seconds", t.seconds);
+    report.set("wall_seconds", t.slowest);
+    report.set("rays", t.rays);
+    report.set("mrays_per_second", t.seconds > 0.0 ? t.rays / t.seconds * 1e-6 : 0.0);
     report.set("nan_pixels", film.nan_pixels());
     report.set("inf_pixels", film.inf_pixels());
     report.set("nan_samples", film.nan_samples());
     report.set("inf_samples", film.inf_samples());
     report.set("image", o.out + ".exr");
-    if (error) {
-        const ErrorMetrics& e = *error;
-        if (!o.quiet)
-            std::fprintf(stderr, "merge: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
-                         o.reference.c_str(), e.mse, e.rmse, e.relmse, e.mae);
-        report.set("reference", o.reference);
-        report.set("mse", e.mse);
-        report.set("rmse", e.rmse);
-        report.set("relmse", e.relmse);
-        report.set("mae", e.mae);
-        report.set("efficiency", e.mse > 0.0 && seconds > 0.0 ? 1.0 / (e.mse * seconds) : 0.0);
-    }
-    report.set("notes", h.notes);
+}
+
+// The error against --reference, in the report and on stderr.
+void report_error(Report& report, const Options& o, const ErrorMetrics& e, double seconds) {
+    if (!o.quiet)
+        std::fprintf(stderr, "merge: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
+                     o.reference.c_str(), e.mse, e.rmse, e.relmse, e.mae);
+    report.set("reference", o.reference);
+    report.set("mse", e.mse);
+    report.set("rmse", e.rmse);
+    report.set("relmse", e.relmse);
+    report.set("mae", e.mae);
+    report.set("efficiency", e.mse > 0.0 && seconds > 0.0 ? 1.0 / (e.mse * seconds) : 0.0);
+}
+
+// Each layer's share of the image, in the report and on stderr.
+void report_layers(Report& report, const Options& o, const PartHeader& h, const Merged& m) {
     const std::vector<std::string> names(h.films.begin() + 1, h.films.end());
     const std::vector<std::string> shares = layer_shares(m.image, m.layers, names);
     if (!shares.empty()) report.set("layers", shares);
     if (!o.quiet)
         for (const std::string& line : shares) std::cerr << "  " << line << "\n";
+}
+
+// The merged render's files and its report (PREFIX.json, or --report).
+void write_outputs(const Options& o, const std::vector<PartFile>& parts, const Merged& m,
+                   const Coverage& coverage, bool preview) {
+    const PartHeader& h = parts[0].header;
+    // The error against --reference first: a bad reference writes nothing.
+    const std::optional<ErrorMetrics> error = reference_error(o, m.image);
+    write_images(o, h, m);
+    const PartTotals totals = part_totals(parts);
+    Report report;
+    report_run(report, o, parts, m.films[0], coverage, preview, totals);
+    if (error) report_error(report, o, *error, totals.seconds);
+    report.set("notes", h.notes);
+    report_layers(report, o, h, m);
     report.write(o.report.empty() ? o.out + ".json" : o.report);
     if (!o.quiet)
         std::fprintf(stderr,
                      "merge: %zu parts, %d spp%s: wrote %s.exr and %s.png (%.2f s of rendering "
                      "in all, the slowest part %.2f s)\n",
                      parts.size(), coverage.spp_min, preview ? " (preview)" : "", o.out.c_str(),
-                     o.out.c_str(), seconds, slowest);
+                     o.out.c_str(), totals.seconds, totals.slowest);
 }
 
 int status(const Options& o) {
