@@ -228,6 +228,105 @@ std::optional<BsdfSample> towards(const Vertex& v, const Vertex& next) {
     return BsdfSample{wi, Color(pdf / std::max(v.bsdf->abs_cos(wi), 1e-6f)), pdf, false};
 }
 
+// Whether a vertex the walk made at a lies on the given point c (to rounding).
+bool lies_on(const Vec3& a, const Vec3& c) {
+    return glm::length(a - c) <= 1e-4f * (1.0f + glm::length(c));
+}
+
+// The k-th vertex after the camera's on the given path, in the camera subpath's order: x_{n-2},
+// x_{n-3}, ..., x_1 (the points, last first), then the light.
+Vertex camera_target(const Vertex& light, std::span<const Vec3> points, size_t k) {
+    const size_t m = points.size();
+    Vertex v = light;
+    if (k < m) {
+        v = Vertex{};
+        v.p = points[m - 1 - k];
+    }
+    return v;
+}
+
+// The camera subpath: from the pinhole to x_{n-2}, x_{n-3}, ..., x_1, then the light. Returns why
+// the given path cannot be followed ("" when it was).
+std::string camera_subpath_along(const Bidir& b, const Vertex& light, std::span<const Vec3> points,
+                                 std::vector<Vertex>& path) {
+    Vertex camera;
+    camera.type = VertexType::Camera;
+    camera.p = b.camera.position();
+    camera.beta = Color(1.0f);
+    path.push_back(camera);
+    const size_t m = points.size();
+    const Vec3 first = direction(camera, camera_target(light, points, 0));
+    const size_t camera_vertices = m + (light.point_light ? 1 : 2);
+    size_t aimed = 0;
+    Rng unused(0);
+    walk(b, Ray{camera.p, first}, Color(1.0f), b.camera.importance(first), unused,
+         static_cast<int>(camera_vertices), -1, Transport::Radiance, path,
+         [&](const Vertex& v) -> std::optional<BsdfSample> {
+             if (++aimed >= camera_vertices - 1) return std::nullopt;
+             return towards(v, camera_target(light, points, aimed));
+         });
+    if (path.size() != camera_vertices)
+        return "the camera subpath ends after " + std::to_string(path.size()) + " of its " +
+               std::to_string(camera_vertices) + " vertices";
+    for (size_t k = 0; k < m; ++k)
+        if (!lies_on(path[1 + k].p, camera_target(light, points, k).p))
+            return "the camera subpath's vertex " + std::to_string(1 + k) +
+                   " misses its point (blocked)";
+    if (!light.point_light) {  // the camera subpath ends on the light
+        const Vertex& end = path.back();
+        if (light.infinite ? !end.infinite
+                           : end.primitive() != light.emitter || !lies_on(end.p, light.p))
+            return "the camera subpath does not end on the light";
+    }
+    return "";
+}
+
+// The densities with which a light subpath starts as the given one does: y_0's own, the light's
+// choice and its point's (set in y0.pdf_fwd), and, returned, that of its direction w towards x_1
+// per steradian (uniform over the sphere for a point light, the emission's for an area light; 0
+// where it sends no light that way).
+float light_start_densities(const Bidir& b, Vertex& y0, const Vec3& w) {
+    if (y0.point_light) {
+        const auto& points_lights = b.scene.point_lights();
+        for (uint32_t i = 0; i < points_lights.size(); ++i)
+            if (points_lights[i].position == y0.p) y0.pdf_fwd = b.lights.point_emission_pdf(i).area;
+        return uniform_sphere_pdf();
+    }
+    y0.pdf_fwd = light_origin_density(b, y0);
+    return y0.emitter ? b.lights.emission_pdf(*y0.emitter, y0.n, w).dir : 0.0f;
+}
+
+// The light subpath: from the light to x_1, ..., x_{n-2}, through the same points (towards the
+// camera, if there are none). Returns why the given path cannot be followed ("" when it was).
+std::string light_subpath_along(const Bidir& b, const Vertex& light, std::span<const Vec3> points,
+                                const Vertex& camera, std::vector<Vertex>& path) {
+    const size_t m = points.size();
+    Vertex y0 = light;
+    y0.type = VertexType::Light;
+    y0.beta = Color(1.0f);
+    const Vec3 w = direction(y0, m > 0 ? camera_target(light, points, m - 1) : camera);
+    const float pdf_dir = light_start_densities(b, y0, w);
+    if (!(pdf_dir > 0.0f)) return "the light does not send light towards x_1";
+    path.push_back(y0);
+    if (m == 0) return "";  // a light seen directly: the light subpath is y_0 alone
+    size_t next = 0;
+    Rng unused(0);
+    walk(b, spawn_ray(y0.surface_point(), w), Color(1.0f), pdf_dir, unused, static_cast<int>(m + 1),
+         -1, Transport::Importance, path, [&](const Vertex& v) -> std::optional<BsdfSample> {
+             if (++next >= m) return std::nullopt;
+             return towards(v, camera_target(light, points, m - 1 - next));
+         });
+    if (path.size() != m + 1)
+        return "the light subpath ends after " + std::to_string(path.size()) + " of its " +
+               std::to_string(m + 1) + " vertices";
+    for (size_t i = 1; i <= m; ++i)
+        if (!lies_on(path[i].p, points[i - 1]))
+            return "the light subpath's vertex " + std::to_string(i) +
+                   " misses its point (blocked)";
+    path[0].pdf_light_sample = light_sample_density(b, path[0], path[1]);
+    return "";
+}
+
 }  // namespace
 
 std::optional<GivenSubpaths> subpaths_along(const Bidir& b, const Vertex& light,
@@ -236,84 +335,13 @@ std::optional<GivenSubpaths> subpaths_along(const Bidir& b, const Vertex& light,
         if (why) *why = reason;
         return std::nullopt;
     };
-    auto near = [](const Vec3& a, const Vec3& c) {
-        return glm::length(a - c) <= 1e-4f * (1.0f + glm::length(c));
-    };
     GivenSubpaths out;
-    Rng unused(0);
-    // The camera subpath: from the pinhole to x_{n-2}, x_{n-3}, ..., x_1, then the light.
-    Vertex camera;
-    camera.type = VertexType::Camera;
-    camera.p = b.camera.position();
-    camera.beta = Color(1.0f);
-    out.camera.push_back(camera);
-    const size_t m = points.size();
-    auto camera_target = [&](size_t k) {  // the k-th vertex after the camera's
-        Vertex v = light;
-        if (k < m) {
-            v = Vertex{};
-            v.p = points[m - 1 - k];
-        }
-        return v;
-    };
-    const Vec3 first = direction(camera, camera_target(0));
-    const size_t camera_vertices = m + (light.point_light ? 1 : 2);
-    size_t aimed = 0;
-    walk(b, Ray{camera.p, first}, Color(1.0f), b.camera.importance(first), unused,
-         static_cast<int>(camera_vertices), -1, Transport::Radiance, out.camera,
-         [&](const Vertex& v) -> std::optional<BsdfSample> {
-             if (++aimed >= camera_vertices - 1) return std::nullopt;
-             return towards(v, camera_target(aimed));
-         });
-    if (out.camera.size() != camera_vertices)
-        return fail("the camera subpath ends after " + std::to_string(out.camera.size()) +
-                    " of its " + std::to_string(camera_vertices) + " vertices");
-    for (size_t k = 0; k < m; ++k)
-        if (!near(out.camera[1 + k].p, camera_target(k).p))
-            return fail("the camera subpath's vertex " + std::to_string(1 + k) +
-                        " misses its point (blocked)");
-    if (!light.point_light) {  // the camera subpath ends on the light
-        const Vertex& end = out.camera.back();
-        if (light.infinite ? !end.infinite
-                           : end.primitive() != light.emitter || !near(end.p, light.p))
-            return fail("the camera subpath does not end on the light");
-    }
+    const std::string camera_failed = camera_subpath_along(b, light, points, out.camera);
+    if (!camera_failed.empty()) return fail(camera_failed);
     if (light.infinite) return out;  // the sky starts no light subpath
-
-    // The light subpath: from the light to x_1, ..., x_{n-2}, through the same points.
-    Vertex y0 = light;
-    y0.type = VertexType::Light;
-    y0.beta = Color(1.0f);
-    float pdf_dir = 0.0f;
-    const Vec3 w = direction(y0, m > 0 ? camera_target(m - 1) : out.camera[0]);
-    if (light.point_light) {
-        const auto& points_lights = b.scene.point_lights();
-        for (uint32_t i = 0; i < points_lights.size(); ++i)
-            if (points_lights[i].position == light.p)
-                y0.pdf_fwd = b.lights.point_emission_pdf(i).area;
-        pdf_dir = uniform_sphere_pdf();
-    } else {
-        y0.pdf_fwd = light_origin_density(b, y0);
-        if (light.emitter) pdf_dir = b.lights.emission_pdf(*light.emitter, y0.n, w).dir;
-    }
-    if (!(pdf_dir > 0.0f)) return fail("the light does not send light towards x_1");
-    out.light.push_back(y0);
-    if (m == 0) return out;  // a light seen directly: the light subpath is y_0 alone
-    size_t next = 0;
-    walk(b, spawn_ray(y0.surface_point(), w), Color(1.0f), pdf_dir, unused,
-         static_cast<int>(m + 1), -1, Transport::Importance, out.light,
-         [&](const Vertex& v) -> std::optional<BsdfSample> {
-             if (++next >= m) return std::nullopt;
-             return towards(v, camera_target(m - 1 - next));
-         });
-    if (out.light.size() != m + 1)
-        return fail("the light subpath ends after " + std::to_string(out.light.size()) +
-                    " of its " + std::to_string(m + 1) + " vertices");
-    for (size_t i = 1; i <= m; ++i)
-        if (!near(out.light[i].p, points[i - 1]))
-            return fail("the light subpath's vertex " + std::to_string(i) +
-                        " misses its point (blocked)");
-    out.light[0].pdf_light_sample = light_sample_density(b, out.light[0], out.light[1]);
+    const std::string light_failed =
+        light_subpath_along(b, light, points, out.camera[0], out.light);
+    if (!light_failed.empty()) return fail(light_failed);
     return out;
 }
 
