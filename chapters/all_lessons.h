@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "render/app.h"
+#include "render/lesson.h"
 
 namespace lessons {
 

@@ -27,7 +27,7 @@ RenderResult render_lesson5(const Scene& scene, const BidirOptions& options, int
     settings.progress = false;
     settings.seed = seed;
     settings.threads = threads;
-    return render_scene(scene, make_bidirectional_model(scene, lights, options), spp, settings);
+    return render_scene(scene, BidirectionalModel(scene, options), spp, settings);
 }
 
 RenderResult render_lesson4(const Scene& scene, const PathOptions& options, int spp,
@@ -36,7 +36,7 @@ RenderResult render_lesson4(const Scene& scene, const PathOptions& options, int 
     RenderSettings settings;
     settings.progress = false;
     settings.seed = seed;
-    return render_scene(scene, make_path_tracing_model(scene, lights, options), spp, settings);
+    return render_scene(scene, PathTracingModel(scene, options), spp, settings);
 }
 
 
@@ -910,7 +910,7 @@ edge_v = [0, 0, 1]
         const bool has_sky = c.scene.has_environment();
         {
             const LightSampler lights(c.scene);
-            const Model model = make_bidirectional_model(c.scene, lights, tracing);
+            const auto model = BidirectionalModel(c.scene, tracing);
             EXPECT_EQ(has_sky, !model.biased_because.empty()) << c.name;  // "cannot show the sky"
         }
         // Many samples for so small an image: at a lamp's edge and at the sphere's silhouette a

@@ -31,7 +31,7 @@ TEST(Convergence, PathTracingMseFallsAsOneOverSpp) {
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/furnace.toml", {48, 48});
     const LightSampler lights(scene);
     const std::vector<Checkpoint> points =
-        convergence(scene, make_path_tracing_model(scene, lights, {}), 32);
+        convergence(scene, PathTracingModel(scene, {}), 32);
     ASSERT_EQ(points.size(), 6u);  // 1, 2, 4, 8, 16, 32
     // Least-squares slope of log MSE against log spp over the last four doublings (2 .. 32).
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
@@ -55,7 +55,7 @@ TEST(Convergence, RayCastingDoesNotConvergeToTheGlobalIllumination) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/furnace.toml", {48, 48});
     const std::vector<Checkpoint> points =
-        convergence(scene, make_ray_casting_model(scene, {}), 16);
+        convergence(scene, RayCastingModel(scene, {}), 16);
     ASSERT_EQ(points.size(), 5u);
     EXPECT_NEAR(points.front().error.mse, 16.0, 1e-3);
     EXPECT_NEAR(points.back().error.mse, 16.0, 1e-3);
@@ -71,13 +71,13 @@ TEST(Convergence, TimeBudgetRendersWholePassesUntilSpent) {
     settings.progress = false;
     int spp = 0;
     const RenderResult r =
-        render_progressive(scene, make_path_tracing_model(scene, lights, {}), plan, settings, &spp);
+        render_progressive(scene, PathTracingModel(scene, {}), plan, settings, &spp);
     EXPECT_GE(r.stats.seconds, 0.2);
     EXPECT_GE(spp, 1);
     // Whole passes: the same seed and sample count give the same image as a fixed-spp render.
     ProgressivePlan fixed_plan;
     fixed_plan.spp = spp;
-    const RenderResult fixed = render_progressive(scene, make_path_tracing_model(scene, lights, {}),
+    const RenderResult fixed = render_progressive(scene, PathTracingModel(scene, {}),
                                                   fixed_plan, settings, nullptr);
     for (size_t i = 0; i < r.image.pixels.size(); ++i)
         ASSERT_EQ(r.image.pixels[i], fixed.image.pixels[i]);

@@ -27,7 +27,7 @@ RenderResult render4(const Scene& scene, bool plain, int spp, uint64_t seed) {
     RenderSettings settings;
     settings.progress = false;
     settings.seed = seed;
-    return render_scene(scene, make_path_tracing_model(scene, lights, options), spp, settings);
+    return render_scene(scene, PathTracingModel(scene, options), spp, settings);
 }
 
 RenderResult render5(const Scene& scene, int spp, uint64_t seed) {
@@ -35,7 +35,7 @@ RenderResult render5(const Scene& scene, int spp, uint64_t seed) {
     RenderSettings settings;
     settings.progress = false;
     settings.seed = seed;
-    return render_scene(scene, make_bidirectional_model(scene, lights, {}), spp, settings);
+    return render_scene(scene, BidirectionalModel(scene, {}), spp, settings);
 }
 
 std::string scene_text(const std::string& background) {

@@ -250,7 +250,7 @@ TEST(HardCases, SmallptSphereWallsRenderLikeQuadWalls) {
     settings.progress = false;
     settings.jitter = false;
     auto cast = [&](const Scene& scene) {
-        return render_scene(scene, make_ray_casting_model(scene, {}), 1, settings).image;
+        return render_scene(scene, RayCastingModel(scene, {}), 1, settings).image;
     };
     const Image reference = cast(quads);
     auto differing = [&](const Image& image) {
@@ -340,7 +340,7 @@ TEST(HardCases, NestedAndTouchingGlassConserveEnergyAndTerminate) {
     RenderSettings settings;
     settings.progress = false;
     const RenderResult r =
-        render_scene(scene, make_path_tracing_model(scene, lights, {}), 256, settings);
+        render_scene(scene, PathTracingModel(scene, {}), 256, settings);
     // Every pixel would be 1 (no absorption anywhere, a sky of 1) but for paths that total
     // internal reflection traps until the 1000-segment cut: those lose their light.
     double lowest = 1.0, highest = 1.0, sum = 0.0;
@@ -411,7 +411,7 @@ TEST(HardCases, LowPolySmoothSphereHasNoBlackSilhouette) {
         scene.naive.raw_shading_normals = raw_shading_normals;
         const LightSampler lights(scene);
         const RenderResult r =
-            render_scene(scene, make_reflection_model(scene, lights, {}), 16, settings);
+            render_scene(scene, ReflectionModel(scene, {}), 16, settings);
         int black = 0;
         on_sphere = 0;
         test::for_each_pixel_center(scene.camera, 64, 48, [&](int x, int y, const Ray& ray) {
@@ -470,10 +470,10 @@ TEST(HardCases, FirefliesAreCountedAndClampingIsOptIn) {
     RenderSettings settings;
     settings.progress = false;
     const RenderResult r =
-        render_scene(scene, make_path_tracing_model(scene, lights, plain), 64, settings);
+        render_scene(scene, PathTracingModel(scene, plain), 64, settings);
     settings.clamp = 10.0f;
     const RenderResult clamped =
-        render_scene(scene, make_path_tracing_model(scene, lights, plain), 64, settings);
+        render_scene(scene, PathTracingModel(scene, plain), 64, settings);
     figure("tiny bright light, plain path tracing at 64 spp: " + std::to_string(r.firefly_pixels) +
            " firefly pixels of 1728; with --clamp 10: " + std::to_string(clamped.firefly_pixels) +
            " and " + std::to_string(clamped.clamped_samples) + " clamped samples (biased)");
@@ -490,7 +490,7 @@ TEST(HardCases, TheCornellBoxLooksTheSameAtEveryScale) {
     settings.progress = false;
     auto direct = [&](const Scene& scene, int spp) {
         const LightSampler lights(scene);
-        return render_scene(scene, make_reflection_model(scene, lights, {}), spp, settings);
+        return render_scene(scene, ReflectionModel(scene, {}), spp, settings);
     };
     const RenderResult unit = direct(load_scene(kScenes + "cornell_box.toml", {32, 32}), 64);
     const double reference = image_mean(unit.image);
@@ -536,10 +536,10 @@ TEST(HardCases, TheCoreSurvivesDegenerateAndNaNTrianglesGivenUnchecked) {
     RenderSettings settings;
     settings.progress = false;
     settings.jitter = false;
-    const RenderResult a = render_scene(clean, make_ray_casting_model(clean, {}), 1, settings);
-    const RenderResult b = render_scene(naive, make_ray_casting_model(naive, {}), 1, settings);
+    const RenderResult a = render_scene(clean, RayCastingModel(clean, {}), 1, settings);
+    const RenderResult b = render_scene(naive, RayCastingModel(naive, {}), 1, settings);
     naive.naive.moller_trumbore = true;
-    const RenderResult c = render_scene(naive, make_ray_casting_model(naive, {}), 1, settings);
+    const RenderResult c = render_scene(naive, RayCastingModel(naive, {}), 1, settings);
     int differ = 0, differ_mt = 0;
     for (size_t i = 0; i < a.image.pixels.size(); ++i) {
         differ += !(a.image.pixels[i] == b.image.pixels[i]);

@@ -27,7 +27,7 @@ TEST(RayCasting, LambertianSphereUnderPointLightMatchesClosedFormPerPixel) {
     RenderSettings settings;
     settings.jitter = false;  // one sample at each pixel center: a closed form per pixel
     settings.progress = false;
-    const RenderResult r = render_scene(scene, make_ray_casting_model(scene, {}), 1, settings);
+    const RenderResult r = render_scene(scene, RayCastingModel(scene, {}), 1, settings);
 
     int lit = 0, checked = 0;
     for (int y = 0; y < scene.height; ++y)
@@ -122,7 +122,7 @@ TEST(RayCasting, AmbientTermAndBackground) {
 TEST(RayCasting, SaysWhatItApproximates) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/whitted_1979.toml", {32, 24});
-    const Model model = make_ray_casting_model(scene, {});
+    const auto model = RayCastingModel(scene, {});
     std::string all;
     for (const std::string& n : model.notes) all += n + "\n";
     EXPECT_NE(all.find("'mirror' (mirror): shaded as diffuse"), std::string::npos) << all;

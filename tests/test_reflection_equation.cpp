@@ -109,7 +109,7 @@ TEST(ReflectionEquation, TheFiveEstimatorsAgreeOnTheCornellBox) {
         settings.progress = false;
         settings.seed = 10 + static_cast<int>(e);
         const RenderResult r =
-            render_scene(scene, make_reflection_model(scene, lights, options), 256, settings);
+            render_scene(scene, ReflectionModel(scene, options), 256, settings);
         double mean = 0.0, variance = 0.0;
         const double n = static_cast<double>(r.image.pixels.size());
         for (size_t i = 0; i < r.image.pixels.size(); ++i) {
@@ -140,7 +140,7 @@ TEST(ReflectionEquation, PointLightsNeedLightSamplingAndTheNotesSaySo) {
     ReflectionOptions brdf;
     brdf.estimator = Estimator::Brdf;
     std::string notes;
-    for (const std::string& n : make_reflection_model(scene, lights, brdf).notes) notes += n + "\n";
+    for (const std::string& n : ReflectionModel(scene, brdf).notes) notes += n + "\n";
     EXPECT_NE(notes.find("point lights are invisible to the brdf estimator"), std::string::npos)
         << notes;
     // With light sampling, a point on the floor lit by the point light gets I cos / d^2 rho / pi

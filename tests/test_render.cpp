@@ -63,7 +63,7 @@ TEST(Render, DifferentSeedsGiveDifferentNoise) {
 TEST(Render, CountsTheRaysItTraces) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/whitted_1979.toml", {40, 30});
-    const Model model = make_ray_casting_model(scene, {});
+    const auto model = RayCastingModel(scene, {});
     RenderSettings s;
     s.progress = false;
     const RenderResult r = render_scene(scene, model, 2, s);

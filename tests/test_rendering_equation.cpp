@@ -53,10 +53,10 @@ std::pair<RenderResult, RenderResult> render_both(const Scene& scene, const Path
     settings.progress = false;
     settings.seed = seed;
     RenderResult first =
-        render_scene(scene, make_path_tracing_model(scene, lights, a), spp_a, settings);
+        render_scene(scene, PathTracingModel(scene, a), spp_a, settings);
     settings.seed = seed + 1;
     RenderResult second =
-        render_scene(scene, make_path_tracing_model(scene, lights, b), spp_b, settings);
+        render_scene(scene, PathTracingModel(scene, b), spp_b, settings);
     return {std::move(first), std::move(second)};
 }
 
@@ -114,10 +114,10 @@ TEST(RenderingEquation, RussianRouletteChangesTheVarianceNotTheMean) {
     without.roulette_after = -1;
     settings.seed = 1;
     const RenderResult a =
-        render_scene(scene, make_path_tracing_model(scene, lights, with), 128, settings);
+        render_scene(scene, PathTracingModel(scene, with), 128, settings);
     settings.seed = 2;
     const RenderResult b =
-        render_scene(scene, make_path_tracing_model(scene, lights, without), 128, settings);
+        render_scene(scene, PathTracingModel(scene, without), 128, settings);
     const auto [ma, va] = image_mean(a.image, a.variance);
     const auto [mb, vb] = image_mean(b.image, b.variance);
     EXPECT_LT(std::fabs(ma - mb) / std::sqrt(va + vb), test::z_quantile(kSignificance))
@@ -153,11 +153,11 @@ TEST(RenderingEquation, LessonThreeEqualsEmissionPlusTheFirstBounce) {
     settings.progress = false;
     settings.seed = 5;
     const RenderResult direct = render_scene(
-        scene, make_reflection_model(scene, lights, ReflectionOptions{}), 256, settings);
+        scene, ReflectionModel(scene, ReflectionOptions{}), 256, settings);
     PathOptions layered;
     layered.bounce_layers = 2;
     settings.seed = 6;
-    const Model model = make_path_tracing_model(scene, lights, layered);
+    const auto model = PathTracingModel(scene, layered);
     const RenderResult path = render_scene(scene, model, 256, settings);
     ASSERT_EQ(path.layers.size(), 3u);  // bounce0, bounce1, bounce2plus
     Image first_two(24, 24);
@@ -214,7 +214,7 @@ TEST(RenderingEquation, ClampedBounceLayersStillAddUpToTheImage) {
     settings.progress = false;
     settings.clamp = 0.5f;
     const RenderResult r =
-        render_scene(scene, make_path_tracing_model(scene, lights, layered), 64, settings);
+        render_scene(scene, PathTracingModel(scene, layered), 64, settings);
     ASSERT_GT(r.clamped_samples, 0u);
     for (size_t i = 0; i < r.image.pixels.size(); ++i) {
         float sum = 0.0f;

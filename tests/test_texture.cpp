@@ -12,6 +12,7 @@
 #include "io/scene_file.h"
 #include "io/texture.h"
 #include "ray_casting.h"
+#include "render/progressive.h"
 
 using namespace lessons;
 
@@ -113,8 +114,8 @@ TEST(Texture, AFlatTextureRendersExactlyAsTheSameColour) {
     settings.threads = 1;
     settings.progress = false;
     const RenderResult a =
-        render_scene(textured, make_ray_casting_model(textured, {}), 2, settings);
-    const RenderResult b = render_scene(plain, make_ray_casting_model(plain, {}), 2, settings);
+        render_scene(textured, RayCastingModel(textured, {}), 2, settings);
+    const RenderResult b = render_scene(plain, RayCastingModel(plain, {}), 2, settings);
     int lit = 0;
     for (size_t i = 0; i < a.image.pixels.size(); ++i) {
         ASSERT_EQ(a.image.pixels[i], b.image.pixels[i]) << "pixel " << i;

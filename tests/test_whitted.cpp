@@ -35,7 +35,7 @@ Image render_centers(const Scene& scene, const WhittedOptions& options) {
     RenderSettings settings;
     settings.jitter = false;
     settings.progress = false;
-    return render_scene(scene, make_whitted_model(scene, options), 1, settings).image;
+    return render_scene(scene, WhittedModel(scene, options), 1, settings).image;
 }
 
 // A closed box mesh of glass, [lo, hi], faces wound outwards.
@@ -200,8 +200,8 @@ TEST(Whitted, DiffuseOnlyScenesRenderExactlyAsLessonOne) {
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {48, 48});
     RenderSettings settings;
     settings.progress = false;
-    const Image lesson1 = render_scene(scene, make_ray_casting_model(scene, {}), 2, settings).image;
-    const Image lesson2 = render_scene(scene, make_whitted_model(scene, {}), 2, settings).image;
+    const Image lesson1 = render_scene(scene, RayCastingModel(scene, {}), 2, settings).image;
+    const Image lesson2 = render_scene(scene, WhittedModel(scene, {}), 2, settings).image;
     for (size_t i = 0; i < lesson1.pixels.size(); ++i)
         ASSERT_EQ(lesson1.pixels[i], lesson2.pixels[i]);
 }
@@ -212,7 +212,7 @@ TEST(Whitted, ShippedScenesHaveNoNaNOrInf) {
             load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/" + name + ".toml", {64, 48});
         RenderSettings settings;
         settings.progress = false;
-        const RenderResult r = render_scene(scene, make_whitted_model(scene, {}), 2, settings);
+        const RenderResult r = render_scene(scene, WhittedModel(scene, {}), 2, settings);
         EXPECT_EQ(r.nan_samples + r.inf_samples, 0u) << name;
     }
 }

@@ -1,25 +1,47 @@
 // Lesson 1: ray casting, as a lesson: its one flag, and the model it makes for a scene.
 #include <CLI/CLI.hpp>
-#include <memory>
 
+#include "ambient_flag.h"
+#include "io/input_error.h"
 #include "ray_casting.h"
+#include "render/lesson.h"
 
 namespace lessons {
 
+void AmbientFlag::bind(CLI::App& app) {
+    app.add_option("--ambient", values,
+                   "Ambient radiance L_a standing in for indirect light at diffuse hits: one grey "
+                   "value or R G B (default: the scene's background radiance)")
+        ->expected(1, 3)
+        ->check(CLI::NonNegativeNumber);
+}
+
+Color AmbientFlag::radiance(const Scene& scene) const {
+    if (values.size() == 1) return Color(values[0]);
+    if (values.size() == 3) return Color(values[0], values[1], values[2]);
+    if (values.size() == 2)
+        throw InputError("command line", 0, "--ambient", "give one value or three (R G B)");
+    return scene.environment_map ? scene.environment_map->mean() : scene.background;
+}
+
+namespace {
+
+struct RayCastingFlags {
+    AmbientFlag ambient;
+
+    void bind(CLI::App& app) { ambient.bind(app); }
+    std::unique_ptr<Model> make_model(const Scene& scene) const {
+        return std::make_unique<RayCastingModel>(scene, RayCastingOptions{ambient.radiance(scene)});
+    }
+};
+
+}  // namespace
+
 Lesson ray_casting_lesson() {
-    auto ambient = std::make_shared<std::vector<float>>();
-    Lesson lesson;
-    lesson.name = "01_ray_casting";
-    lesson.description =
-        "Lesson 1, ray casting: nearest hit, one shadow ray per light, Blinn-Phong local shading";
-    lesson.default_spp = 4;
-    lesson.add_options = [=](CLI::App& app) { add_ambient_option(app, *ambient); };
-    lesson.make_model = [=](const Scene& scene) {
-        RayCastingOptions options;
-        options.ambient = ambient_radiance(*ambient, scene);
-        return make_ray_casting_model(scene, options);
-    };
-    return lesson;
+    return lesson_with_flags<RayCastingFlags>(
+        "01_ray_casting",
+        "Lesson 1, ray casting: nearest hit, one shadow ray per light, Blinn-Phong local shading",
+        4);
 }
 
 }  // namespace lessons

@@ -1,4 +1,8 @@
 // The 01_ray_casting executable: the lesson (lesson.cpp) run from the command line.
-#include "ray_casting.h"
+#include "render/app.h"
+
+namespace lessons {
+Lesson ray_casting_lesson();  // lesson.cpp
+}
 
 int main(int argc, char** argv) { return lessons::run_lesson(argc, argv, lessons::ray_casting_lesson()); }

@@ -1,12 +1,10 @@
 // Lesson 1: ray casting (see ray_casting.h for the model's equation).
 #include "ray_casting.h"
 
-#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 
 #include "geometry/spawn.h"
-#include "io/input_error.h"
 
 namespace lessons {
 
@@ -156,22 +154,6 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
     return scene.emitted(si) + m.k_d * options.ambient + direct_local(scene, si, m, n);
 }
 
-void add_ambient_option(CLI::App& app, std::vector<float>& values) {
-    app.add_option("--ambient", values,
-                   "Ambient radiance L_a standing in for indirect light at diffuse hits: one grey "
-                   "value or R G B (default: the scene's background radiance)")
-        ->expected(1, 3)
-        ->check(CLI::NonNegativeNumber);
-}
-
-Color ambient_radiance(const std::vector<float>& values, const Scene& scene) {
-    if (values.size() == 1) return Color(values[0]);
-    if (values.size() == 3) return Color(values[0], values[1], values[2]);
-    if (values.size() == 2)
-        throw InputError("command line", 0, "--ambient", "give one value or three (R G B)");
-    return scene.environment_map ? scene.environment_map->mean() : scene.background;
-}
-
 std::string environment_map_note(const Scene& scene) {
     if (!scene.environment_map) return "";
     return "environment map: escaping rays see it, but it lights surfaces only through the "
@@ -179,21 +161,21 @@ std::string environment_map_note(const Scene& scene) {
            "it)";
 }
 
-Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options) {
-    Model model;
-    model.radiance = [&scene, options](const Ray& ray, Rng&) {
-        return ray_cast(scene, ray, options);
-    };
-    if (!scene.area_lights().empty()) model.notes.push_back(area_lights_as_points_note(scene));
-    for (const std::string& n : local_material_notes(scene)) model.notes.push_back(n);
-    model.notes.push_back(ambient_note(options.ambient));
-    if (scene.environment_map) model.notes.push_back(environment_map_note(scene));
-    model.biased_because.push_back(
+RayCastingModel::RayCastingModel(const Scene& scene, const RayCastingOptions& options)
+    : scene_(scene), options_(options) {
+    if (!scene.area_lights().empty()) notes.push_back(area_lights_as_points_note(scene));
+    for (const std::string& n : local_material_notes(scene)) notes.push_back(n);
+    notes.push_back(ambient_note(options.ambient));
+    if (scene.environment_map) notes.push_back(environment_map_note(scene));
+    biased_because.push_back(
         "a local model: light arriving from other surfaces (indirect light, reflections, "
         "refraction) is missing, and the ambient term is a constant guess for it");
     if (scene.point_lights().empty() && scene.area_lights().empty())
-        model.notes.push_back("the scene has no lights: only emission, ambient and background");
-    return model;
+        notes.push_back("the scene has no lights: only emission, ambient and background");
+}
+
+Color RayCastingModel::sample(const Ray& ray, Rng&, std::span<Color>, std::vector<Splat>&) const {
+    return ray_cast(scene_, ray, options_);
 }
 
 }  // namespace lessons

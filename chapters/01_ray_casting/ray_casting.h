@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "materials/bsdf.h"
-#include "render/app.h"
+#include "render/model.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -48,14 +48,17 @@ struct RayCastingOptions {
 // The radiance along a camera ray in the ray-casting model.
 Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& options);
 
-Model make_ray_casting_model(const Scene& scene, const RayCastingOptions& options);
+// Lesson 1 as a model the render loop runs: ray_cast for every pixel sample, with notes on
+// what the local model makes of this scene's materials and lights. `scene` must outlive it.
+class RayCastingModel final : public Model {
+public:
+    RayCastingModel(const Scene& scene, const RayCastingOptions& options);
+    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                 std::vector<Splat>& splats) const override;
 
-// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
-Lesson ray_casting_lesson();
-
-// The --ambient flag of the local models (lessons 1 and 2): one grey value or R G B, stored in
-// `values`; ambient_radiance() turns it into L_a, the scene's background radiance by default.
-void add_ambient_option(CLI::App& app, std::vector<float>& values);
-Color ambient_radiance(const std::vector<float>& values, const Scene& scene);
+private:
+    const Scene& scene_;
+    RayCastingOptions options_;
+};
 
 }  // namespace lessons

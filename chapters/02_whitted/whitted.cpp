@@ -71,45 +71,45 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
     return L;
 }
 
-Model make_whitted_model(const Scene& scene, const WhittedOptions& options) {
-    Model model;
-    model.radiance = [&scene, options](const Ray& ray, Rng&) {
-        return whitted(scene, ray, options);
-    };
+WhittedModel::WhittedModel(const Scene& scene, const WhittedOptions& options)
+    : scene_(scene), options_(options) {
     char limits[160];
     std::snprintf(limits, sizeof limits,
                   "specular recursion stops after %d bounces or below attenuation %g; stopped "
                   "rays contribute nothing",
                   options.max_bounces, options.min_attenuation);
-    model.notes.push_back(limits);
+    notes.push_back(limits);
     if (!scene.area_lights().empty())
-        model.notes.push_back(area_lights_as_points_note(scene) +
+        notes.push_back(area_lights_as_points_note(scene) +
                               "; seen directly and in mirrors as surfaces");
     for (const Material& m : scene.materials())
         if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
-            model.notes.push_back(glossy_as_highlight_note(m));
+            notes.push_back(glossy_as_highlight_note(m));
     bool has_glass = false, has_specular = false;
     for (const Material& m : scene.materials()) {
         has_glass |= m.type == MaterialType::Glass;
         has_specular |= m.type == MaterialType::Glass || m.type == MaterialType::Mirror;
     }
     if (has_glass)
-        model.notes.push_back(std::string("glass: ") +
+        notes.push_back(std::string("glass: ") +
                               (options.schlick ? "Schlick's approximation" : "exact Fresnel") +
                               "; shadow rays are blocked by glass like by any surface (no "
                               "caustics)");
     if (!has_specular)
-        model.notes.push_back("no mirror or glass in this scene: the image equals lesson 1's");
-    model.notes.push_back(ambient_note(options.ambient));
-    if (scene.environment_map) model.notes.push_back(environment_map_note(scene));
+        notes.push_back("no mirror or glass in this scene: the image equals lesson 1's");
+    notes.push_back(ambient_note(options.ambient));
+    if (scene.environment_map) notes.push_back(environment_map_note(scene));
     if (has_specular && !scene.point_lights().empty())
-        model.notes.push_back(
+        notes.push_back(
             "point lights are never seen in mirrors or glass (a reflected ray never hits a "
             "point): the lamp's reflection and its highlights through glass are missing");
-    model.biased_because.push_back(
+    biased_because.push_back(
         "diffuse surfaces see lights only through shadow rays: light from other surfaces "
         "(colour bleeding) and light focused by mirrors and glass (caustics) are missing");
-    return model;
+}
+
+Color WhittedModel::sample(const Ray& ray, Rng&, std::span<Color>, std::vector<Splat>&) const {
+    return whitted(scene_, ray, options_);
 }
 
 }  // namespace lessons

@@ -15,7 +15,7 @@
 #pragma once
 
 #include "ray_casting.h"
-#include "render/app.h"
+#include "render/model.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -32,9 +32,17 @@ struct WhittedOptions {
 Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options, int depth = 0,
               const Color& attenuation = Color(1.0f));
 
-Model make_whitted_model(const Scene& scene, const WhittedOptions& options);
+// Lesson 2 as a model the render loop runs: whitted for every pixel sample, with notes on what
+// the recursion shows and what it misses in this scene. `scene` must outlive it.
+class WhittedModel final : public Model {
+public:
+    WhittedModel(const Scene& scene, const WhittedOptions& options);
+    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                 std::vector<Splat>& splats) const override;
 
-// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
-Lesson whitted_lesson();
+private:
+    const Scene& scene_;
+    WhittedOptions options_;
+};
 
 }  // namespace lessons

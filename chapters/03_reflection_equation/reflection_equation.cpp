@@ -1,7 +1,6 @@
 // Lesson 3: the reflection equation by Monte Carlo (see reflection_equation.h).
 #include "reflection_equation.h"
 
-#include "io/input_error.h"
 #include "materials/bsdf.h"
 #include "sampling/sampling.h"
 
@@ -34,24 +33,9 @@ float mis_weight(MisHeuristic h, float pdf_this, float pdf_other) {
 
 }  // namespace
 
-Estimator parse_estimator(const std::string& name) {
-    if (name == "uniform") return Estimator::Uniform;
-    if (name == "cosine") return Estimator::Cosine;
-    if (name == "brdf") return Estimator::Brdf;
-    if (name == "light") return Estimator::Light;
-    if (name == "mis") return Estimator::Mis;
-    throw InputError("command line", 0, "--estimator",
-                     "unknown estimator '" + name + "' (known: uniform, cosine, brdf, light, mis)");
-}
-
 const char* estimator_name(Estimator e) {
-    switch (e) {
-        case Estimator::Uniform: return "uniform";
-        case Estimator::Cosine: return "cosine";
-        case Estimator::Brdf: return "brdf";
-        case Estimator::Light: return "light";
-        case Estimator::Mis: return "mis";
-    }
+    for (const auto& [name, estimator] : kEstimatorNames)
+        if (estimator == e) return name;
     return "?";
 }
 
@@ -131,24 +115,20 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
     return L;
 }
 
-Model make_reflection_model(const Scene& scene, const LightSampler& lights,
-                            const ReflectionOptions& options) {
-    Model model;
-    model.radiance = [&scene, &lights, options](const Ray& ray, Rng& rng) {
-        return reflection_equation(scene, lights, ray, rng, options);
-    };
+ReflectionModel::ReflectionModel(const Scene& scene, const ReflectionOptions& options)
+    : scene_(scene), lights_(scene), options_(options) {
     std::string estimator = std::string("estimator: ") + estimator_name(options.estimator);
     if (options.estimator == Estimator::Mis)
         estimator += options.heuristic == MisHeuristic::Power ? " (power heuristic)"
                                                               : " (balance heuristic)";
-    model.notes.push_back(estimator);
-    model.biased_because.push_back(
+    notes.push_back(estimator);
+    biased_because.push_back(
         "direct illumination only: L_i is what emitters send; light reflected by other surfaces "
         "(indirect light) is ignored");
     const bool sees_points =
         options.estimator == Estimator::Light || options.estimator == Estimator::Mis;
-    if (lights.has_point_lights() && !sees_points)
-        model.notes.push_back(
+    if (lights_.has_point_lights() && !sees_points)
+        notes.push_back(
             std::string("the scene's point lights are invisible to the ") +
             estimator_name(options.estimator) +
             " estimator: a sampled direction never hits a point (use light or mis)");
@@ -156,11 +136,15 @@ Model make_reflection_model(const Scene& scene, const LightSampler& lights,
     for (const Material& m : scene.materials())
         delta |= m.type == MaterialType::Mirror || m.type == MaterialType::Glass;
     if (delta)
-        model.notes.push_back(
+        notes.push_back(
             "mirror and glass: one BSDF-sampled direction, whatever the estimator (a delta "
             "BSDF cannot be sampled any other way); they show only emitters");
-    if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
-    return model;
+    if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
+}
+
+Color ReflectionModel::sample(const Ray& ray, Rng& rng, std::span<Color>,
+                              std::vector<Splat>&) const {
+    return reflection_equation(scene_, lights_, ray, rng, options_);
 }
 
 }  // namespace lessons

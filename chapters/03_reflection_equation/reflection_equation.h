@@ -15,10 +15,11 @@
 #pragma once
 
 #include <string>
+#include <utility>
 
 #include "lights/lights.h"
 #include "materials/bsdf.h"
-#include "render/app.h"
+#include "render/model.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -31,7 +32,10 @@ struct ReflectionOptions {
     MisHeuristic heuristic = MisHeuristic::Power;
 };
 
-Estimator parse_estimator(const std::string& name);  // throws InputError
+// The estimators by name, in the lecture's order (the --estimator flag offers them so).
+inline constexpr std::pair<const char*, Estimator> kEstimatorNames[] = {
+    {"uniform", Estimator::Uniform}, {"cosine", Estimator::Cosine}, {"brdf", Estimator::Brdf},
+    {"light", Estimator::Light},     {"mis", Estimator::Mis}};
 const char* estimator_name(Estimator e);
 
 // One light sample of the reflection equation at `si`: f L cos / p_light towards a point chosen
@@ -46,11 +50,18 @@ Color light_sample_term(const Scene& scene, const LightSampler& lights,
 Color reflection_equation(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
                           const ReflectionOptions& options);
 
-// The model for the lesson driver; `lights` must outlive it.
-Model make_reflection_model(const Scene& scene, const LightSampler& lights,
-                            const ReflectionOptions& options);
+// Lesson 3 as a model the render loop runs: reflection_equation for every pixel sample, with
+// its own light sampler. `scene` must outlive it.
+class ReflectionModel final : public Model {
+public:
+    ReflectionModel(const Scene& scene, const ReflectionOptions& options);
+    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                 std::vector<Splat>& splats) const override;
 
-// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
-Lesson reflection_equation_lesson();
+private:
+    const Scene& scene_;
+    LightSampler lights_;
+    ReflectionOptions options_;
+};
 
 }  // namespace lessons

@@ -1,7 +1,6 @@
 // Lesson 4: path tracing the rendering equation (see rendering_equation.h).
 #include "rendering_equation.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 
 #include "reflection_equation.h"
@@ -11,18 +10,6 @@ namespace lessons {
 
 float russian_roulette_survival(const Color& beta) {
     return std::min(1.0f, max_component(beta));
-}
-
-void add_path_length_options(CLI::App& app, int& max_depth, int& roulette_after) {
-    app.add_option("--max-depth", max_depth,
-                   "Longest path in segments (1: emitters seen directly, 2: plus direct light, "
-                   "...); 0: unlimited")
-        ->check(CLI::Range(0, 100000))
-        ->capture_default_str();
-    app.add_option("--roulette-after", roulette_after,
-                   "Bounces before Russian roulette may end a path; -1: never")
-        ->check(CLI::Range(-1, 100000))
-        ->capture_default_str();
 }
 
 void add_path_length_notes(Model& model, int max_depth, int roulette_after) {
@@ -104,48 +91,44 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
     return L;
 }
 
-Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
-                              const PathOptions& options) {
-    Model model;
-    model.radiance = [&scene, &lights, options](const Ray& ray, Rng& rng) {
-        return path_trace(scene, lights, ray, rng, options);
-    };
+PathTracingModel::PathTracingModel(const Scene& scene, const PathOptions& options)
+    : scene_(scene), lights_(scene), options_(options) {
     if (options.bounce_layers > 0) {
         for (int k = 0; k < options.bounce_layers; ++k)
-            model.layer_names.push_back("bounce" + std::to_string(k));
-        model.layer_names.push_back("bounce" + std::to_string(options.bounce_layers) + "plus");
-        model.layered = [&scene, &lights, options](const Ray& ray, Rng& rng,
-                                                   std::span<Color> layers) {
-            return path_trace(scene, lights, ray, rng, options, layers);
-        };
+            layer_names.push_back("bounce" + std::to_string(k));
+        layer_names.push_back("bounce" + std::to_string(options.bounce_layers) + "plus");
     }
-    model.notes.push_back(options.next_event
+    notes.push_back(options.next_event
                               ? "estimator: next-event estimation with BSDF sampling, combined by "
                                 "MIS (power heuristic)"
                               : "estimator: plain path tracing, BSDF sampling only (no next-event "
                                 "estimation)");
     const SceneContents contents = scene.contents();
-    if (!options.next_event && lights.has_point_lights())
-        model.biased_because.push_back(
+    if (!options.next_event && lights_.has_point_lights())
+        biased_because.push_back(
             "the scene's point lights are invisible without next-event estimation: a sampled "
             "direction never hits a point");
     else if (contents.point_lights && contents.delta_materials)
-        model.biased_because.push_back(
+        biased_because.push_back(
             "point-light caustics are missing: light from a point light by way of a mirror or "
             "glass is never found from the camera (a delta BSDF meets a delta light); lesson 5 "
             "renders it");
     if (contents.point_light_in_view)
-        model.biased_because.push_back(
+        biased_because.push_back(
             "a point light in view is missing: no ray hits a point (lesson 5 joins the light to "
             "the camera: one bright pixel)");
     if (contents.area_lights && contents.delta_materials)
-        model.notes.push_back(
+        notes.push_back(
             "caustics of lamps through mirrors and glass are found only by BSDF paths that "
             "happen to hit a lamp: unbiased but noisy (fireflies); lesson 5 traces them from the "
             "lamps");
-    add_path_length_notes(model, options.max_depth, options.roulette_after);
-    if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
-    return model;
+    add_path_length_notes(*this, options.max_depth, options.roulette_after);
+    if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
+}
+
+Color PathTracingModel::sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                               std::vector<Splat>&) const {
+    return path_trace(scene_, lights_, ray, rng, options_, layers);
 }
 
 }  // namespace lessons

@@ -28,12 +28,8 @@
 
 #include "lights/lights.h"
 #include "materials/bsdf.h"
-#include "render/app.h"
+#include "render/model.h"
 #include "scene/scene.h"
-
-namespace CLI {
-class App;
-}
 
 namespace lessons {
 
@@ -54,9 +50,9 @@ struct PathOptions {
 // (Lesson 5 ends its subpaths the same way.)
 float russian_roulette_survival(const Color& beta);
 
-// How long paths may grow, and when Russian roulette may end them: lesson 4's --max-depth and
-// --roulette-after and what the notes say of them, which lesson 5 shares for its subpaths.
-void add_path_length_options(CLI::App& app, int& max_depth, int& roulette_after);
+// What the notes say of how long paths may grow and when Russian roulette may end them
+// (lesson 4's --max-depth and --roulette-after: path_length_flags.h), which lesson 5 shares for
+// its subpaths.
 void add_path_length_notes(Model& model, int max_depth, int roulette_after);
 
 // The radiance along a camera ray: one path sample. If `bounces` is not empty, the
@@ -65,10 +61,18 @@ void add_path_length_notes(Model& model, int max_depth, int roulette_after);
 Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& ray, Rng& rng,
                  const PathOptions& options, std::span<Color> bounces = {});
 
-Model make_path_tracing_model(const Scene& scene, const LightSampler& lights,
-                              const PathOptions& options);
+// Lesson 4 as a model the render loop runs: path_trace for every pixel sample (into bounce
+// layers with options.bounce_layers), with its own light sampler. `scene` must outlive it.
+class PathTracingModel final : public Model {
+public:
+    PathTracingModel(const Scene& scene, const PathOptions& options);
+    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                 std::vector<Splat>& splats) const override;
 
-// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
-Lesson rendering_equation_lesson();
+private:
+    const Scene& scene_;
+    LightSampler lights_;
+    PathOptions options_;
+};
 
 }  // namespace lessons

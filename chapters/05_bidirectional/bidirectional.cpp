@@ -50,57 +50,58 @@ Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
     return L;
 }
 
-Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
-                               const BidirOptions& options) {
-    Model model;
-    const Bidir b{scene, lights, scene.camera, scene.width, scene.height};
-    model.splatting = [b, options](const Ray& ray, Rng& rng, std::span<Color> layers,
-                                   std::vector<Splat>& splats) {
-        return bidirectional(b, ray, rng, options, layers, splats);
-    };
+BidirectionalModel::BidirectionalModel(const Scene& scene, const BidirOptions& options)
+    : lights_(scene),
+      b_{scene, lights_, scene.camera, scene.width, scene.height},
+      options_(options) {
+    splats = true;
     if (options.strategy_layers > 0) {
         const int N = options.strategy_layers;
         for (int k = 1; k <= N; ++k)
             for (int s = 0; s <= k; ++s)
-                model.layer_names.push_back("s" + std::to_string(s) + "_t" +
+                layer_names.push_back("s" + std::to_string(s) + "_t" +
                                             std::to_string(k + 1 - s));
-        model.layer_names.push_back("segments" + std::to_string(N + 1) + "plus");
+        layer_names.push_back("segments" + std::to_string(N + 1) + "plus");
     }
     const SceneContents contents = scene.contents();
     if (options.light_tracing) {
-        model.notes.push_back(
+        notes.push_back(
             "estimator: light tracing alone (the t = 1 strategies, unweighted): light subpaths "
             "joined to the camera and splatted onto the film");
         if (contents.delta_materials)
-            model.biased_because.push_back(
+            biased_because.push_back(
                 "light tracing cannot show mirrors and glass: a light vertex on them cannot be "
                 "joined to the camera (use the full estimator)");
         if (contents.environment)
-            model.biased_because.push_back(
+            biased_because.push_back(
                 "light tracing cannot show the sky's light: no light subpath starts from it");
     } else {
-        model.notes.push_back(
+        notes.push_back(
             "estimator: bidirectional path tracing, every strategy (s, t) weighted by MIS (power "
             "heuristic)");
     }
     if (options.strategy_layers > 0)
-        model.notes.push_back(std::string("strategy layers s{S}_t{T}") +
+        notes.push_back(std::string("strategy layers s{S}_t{T}") +
                               (options.unweighted_layers
                                    ? ", unweighted: each alone estimates every path it can make "
                                      "(they do not add up to the image)"
                                    : ", weighted: they add up to the image"));
     if (contents.environment && !options.light_tracing)
-        model.notes.push_back(
+        notes.push_back(
             "the sky starts no light subpaths: its light is found by camera paths that escape "
             "(s = 0) and by light samples (s = 1), as in lesson 4");
     if (contents.point_lights && contents.delta_materials)
-        model.biased_because.push_back(
+        biased_because.push_back(
             "a point light seen in a mirror or through glass is missing, and so is its caustic "
             "seen that way: a delta BSDF next to each end of the path leaves no strategy to join "
             "them (the caustic seen directly is found)");
-    add_path_length_notes(model, options.max_depth, options.roulette_after);  // both subpaths
-    if (lights.empty()) model.notes.push_back("the scene has no lights: only emission is visible");
-    return model;
+    add_path_length_notes(*this, options.max_depth, options.roulette_after);  // both subpaths
+    if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
+}
+
+Color BidirectionalModel::sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                                 std::vector<Splat>& splats) const {
+    return bidirectional(b_, ray, rng, options_, layers, splats);
 }
 
 }  // namespace lessons

@@ -21,8 +21,7 @@
 
 #include "connect.h"
 #include "lights/lights.h"
-#include "render/app.h"
-#include "render/render.h"
+#include "render/model.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -46,11 +45,18 @@ int strategy_layer(int s, int t, int max_layer_segments);
 Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
                     std::span<Color> layers, std::vector<Splat>& splats);
 
-// The model for the lesson driver; `lights` must outlive it.
-Model make_bidirectional_model(const Scene& scene, const LightSampler& lights,
-                               const BidirOptions& options);
+// Lesson 5 as a model the render loop runs: bidirectional for every pixel sample (splatting
+// its light tracing), with its own light sampler. `scene` must outlive it.
+class BidirectionalModel final : public Model {
+public:
+    BidirectionalModel(const Scene& scene, const BidirOptions& options);
+    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                 std::vector<Splat>& splats) const override;
 
-// The lesson as the command line and the studio run it: its name, flags and model (lesson.cpp).
-Lesson bidirectional_lesson();
+private:
+    LightSampler lights_;
+    Bidir b_;  // refers to lights_
+    BidirOptions options_;
+};
 
 }  // namespace lessons

@@ -299,8 +299,8 @@ void print_run_header(const Lesson& lesson, const CommonOptions& o, const RunInp
               << (o.time_budget > 0.0 ? std::to_string(o.time_budget) + " s budget"
                                       : std::to_string(o.spp) + " spp")
               << ", " << resolve_thread_count(o.threads) << " threads\n";
-    for (const std::string& note : in.model.notes) std::cerr << "  note: " << note << "\n";
-    for (const std::string& why : in.model.biased_because) std::cerr << "  biased: " << why << "\n";
+    for (const std::string& note : in.model->notes) std::cerr << "  note: " << note << "\n";
+    for (const std::string& why : in.model->biased_because) std::cerr << "  biased: " << why << "\n";
 }
 
 // ---- 3. Rendering ----
@@ -331,7 +331,7 @@ RunResult render_run(const CommonOptions& o, const RunInputs& in) {
         };
     }
     run.spp_taken = o.spp;
-    run.render = render_progressive(in.scene, in.model, plan, settings, &run.spp_taken);
+    run.render = render_progressive(in.scene, *in.model, plan, settings, &run.spp_taken);
     return run;
 }
 
@@ -376,12 +376,12 @@ PartHeader part_header(const Lesson& lesson, const CommonOptions& o, const RunIn
     h.sample_end = o.part.first_sample + run.spp_taken;
     h.planned_end = o.part.first_sample + o.spp;
     h.films.push_back("image");
-    for (const std::string& name : in.model.layer_names) h.films.push_back(name);
+    for (const std::string& name : in.model->layer_names) h.films.push_back(name);
     h.seconds = run.render.stats.seconds;
     h.rays = run.render.stats.rays;
     h.threads = resolve_thread_count(o.threads);
     h.exposure = o.exposure;
-    h.notes = in.model.notes;
+    h.notes = in.model->notes;
     h.bias = run_bias(o, in);
     h.build = this_build();
     h.cpu = this_cpu();
@@ -392,7 +392,7 @@ PartHeader part_header(const Lesson& lesson, const CommonOptions& o, const RunIn
 // writes its part EXR and the PNG of what it holds.
 void write_images(const Lesson& lesson, const CommonOptions& o, const RunInputs& in,
                   const RunResult& run) {
-    const Model& model = in.model;
+    const Model& model = *in.model;
     const RenderResult& r = run.render;
     if (o.is_part()) {
         write_part(o.out + ".exr", part_header(lesson, o, in, run), r.films);
@@ -464,9 +464,9 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
                                      ? 1.0 / (error->mse * r.stats.seconds)
                                      : 0.0);
     }
-    report.set("notes", in.model.notes);
+    report.set("notes", in.model->notes);
     if (!shares.empty()) report.set("layers", shares);
-    if (in.model.splatting) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
+    if (in.model->splats) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
     report.write(o.report);
 }
 
@@ -531,26 +531,26 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     check_part(o, in.scene);
     in.reference = read_reference(o, in.scene);
     in.model = lesson.make_model(in.scene);
-    in.model.notes.insert(in.model.notes.end(), in.scene.notes.begin(), in.scene.notes.end());
+    in.model->notes.insert(in.model->notes.end(), in.scene.notes.begin(), in.scene.notes.end());
     // What a part belongs to, taken now: a scene edited while the part renders is not its scene.
     if (o.is_part()) in.scene_hash = scene_files_hash(in.scene, o.limits);
-    if (in.model.splatting && o.part.crops(in.scene))
+    if (in.model->splats && o.part.crops(in.scene))
         throw InputError("command line", 0, "--pixels",
                          lesson.name + " splats light from every pixel's light subpath onto "
                                        "pixels anywhere in the image, so a crop cannot hold its "
                                        "part: split it by --samples only");
     if (!o.variance.empty() && o.sampler != "independent")
-        in.model.notes.push_back("--variance: the samples are stratified (--sampler " + o.sampler +
+        in.model->notes.push_back("--variance: the samples are stratified (--sampler " + o.sampler +
                                  "), so the sample variance / N is not the error of the mean "
                                  "(usually above it, below it for rare events such as a light "
                                  "path few samples take); --sampler independent measures it");
     if (o.albedo >= 0.0f)
-        in.model.notes.push_back("--albedo: every diffuse reflectance is grey " +
+        in.model->notes.push_back("--albedo: every diffuse reflectance is grey " +
                                  std::to_string(o.albedo) + " (the scene's own are ignored)");
 }
 
 std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in) {
-    std::vector<std::string> bias = in.model.biased_because;
+    std::vector<std::string> bias = in.model->biased_because;
     if (o.clamp > 0.0f) bias.push_back("--clamp: bright samples are scaled down");
     if (in.scene.naive.any()) bias.push_back("--naive: the naive methods are wrong on purpose");
     return bias;
@@ -599,7 +599,7 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
                   << " infinite samples were left out of the average (" << r.nan_pixels << " and "
                   << r.inf_pixels << " pixels)\n";
 
-    const std::vector<std::string> shares = layer_shares(r, in.model);
+    const std::vector<std::string> shares = layer_shares(r, *in.model);
     if (!o.quiet)
         for (const std::string& line : shares) std::cerr << "  " << line << "\n";
     std::optional<ErrorMetrics> error;

@@ -4,28 +4,16 @@
 // the model, render (progressive.h), measure, write.
 #pragma once
 
-#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/input_file.h"
+#include "render/lesson.h"
 #include "render/progressive.h"
 #include "scene/scene.h"
 
-namespace CLI {
-class App;
-}
-
 namespace lessons {
-
-struct Lesson {
-    std::string name;         // e.g. "01_ray_casting": the executable and the report's "chapter"
-    std::string description;  // first line of --help
-    int default_spp = 1;
-    std::function<void(CLI::App&)> add_options;  // the lesson's own flags (may be empty)
-    std::function<Model(const Scene&)>
-        make_model;  // throws InputError if the scene cannot be shown
-};
 
 // The common options, as parsed from the command line.
 struct CommonOptions {
@@ -69,10 +57,14 @@ void parse_lesson_arguments(const std::vector<std::string>& args, const Lesson& 
                             CLI::App& app, CommonOptions& o);
 
 // Everything a run renders with, made before any rendering: bad input stops it here. The model
-// refers to the scene, so both stay where they are made (filled in place, never moved).
+// refers to the scene, so both stay where they are made: filled in place, never copied or moved.
 struct RunInputs {
+    RunInputs() = default;
+    RunInputs(const RunInputs&) = delete;
+    RunInputs& operator=(const RunInputs&) = delete;
+
     Scene scene;
-    Model model;
+    std::unique_ptr<Model> model;
     Image reference;  // empty without --reference
     std::string scene_hash;  // a part's: scene_files_hash of the scene and the files it names
 };

@@ -45,17 +45,36 @@ RenderStats ProgressiveFilms::render_into(std::vector<Film>& films, int end,
         s.crop_y = part_.y0;
     }
     const int begin = part_.first_sample + done_, stop = part_.first_sample + end;
-    if (model_.splatting)
-        return render_splatting(scene_.camera, films, s, model_.splatting, begin, stop);
-    if (model_.layer_names.empty())
-        return render(scene_.camera, films[0], s, model_.radiance, begin, stop);
-    return render_layers(scene_.camera, films, s, model_.layered, begin, stop);
+    // The render loop for the model's kind, each calling Model::sample.
+    const Model& m = model_;
+    if (m.splats)
+        return render_splatting(
+            scene_.camera, films, s,
+            [&m](const Ray& ray, Rng& rng, std::span<Color> layers, std::vector<Splat>& splats) {
+                return m.sample(ray, rng, layers, splats);
+            },
+            begin, stop);
+    if (m.layer_names.empty())
+        return render(
+            scene_.camera, films[0], s,
+            [&m](const Ray& ray, Rng& rng) {
+                thread_local std::vector<Splat> none;  // a model that does not splat adds none
+                return m.sample(ray, rng, {}, none);
+            },
+            begin, stop);
+    return render_layers(
+        scene_.camera, films, s,
+        [&m](const Ray& ray, Rng& rng, std::span<Color> layers) {
+            thread_local std::vector<Splat> none;
+            return m.sample(ray, rng, layers, none);
+        },
+        begin, stop);
 }
 
 bool ProgressiveFilms::render_to(int end, const RenderSettings& settings) {
     // A splatting model adds whole passes only; others, with whole_batches, render the batch
     // into films of its own that join these only when it is complete.
-    const bool apart = part_.whole_batches && !model_.splatting;
+    const bool apart = part_.whole_batches && !model_.splats;
     if (apart) {
         if (batch_.empty()) batch_ = films_;
         for (Film& f : batch_) f.clear();
@@ -68,7 +87,7 @@ bool ProgressiveFilms::render_to(int end, const RenderSettings& settings) {
         // A splatting model keeps the passes it finished whole (render_splatting); elsewhere
         // the finished tiles of the batch count, but not as whole samples (unless apart: then
         // the batch is dropped).
-        if (model_.splatting) done_ += s.complete_passes;
+        if (model_.splats) done_ += s.complete_passes;
         interrupted_ = true;
         return false;
     }

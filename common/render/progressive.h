@@ -4,38 +4,16 @@
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/image.h"
 #include "render/metrics.h"
+#include "render/model.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
 namespace lessons {
-
-// A lesson's illumination model, made for one scene.
-struct Model {
-    RadianceFn radiance;
-    // Optional: the same model splitting its radiance into named layers, each written as an
-    // image <out>_<name> with its share of the total printed (used when layer_names is set).
-    LayeredRadianceFn layered;
-    std::vector<std::string> layer_names;
-    // Optional: a model that also adds light to other pixels than its sample's (lesson 5's light
-    // paths). When set, it is used instead of radiance and layered (render_splatting).
-    SplattingRadianceFn splatting;
-    // One line per thing the model approximates or ignores in this scene, printed before the
-    // render and stored in the report.
-    std::vector<std::string> notes;
-    // Why the model's answer differs from the rendering equation's in this scene, however many
-    // samples it takes (its bias); empty when it converges to the true image. Printed, and in
-    // the report as "biased" and "bias".
-    std::vector<std::string> biased_because;
-    // What the functions above refer to and the model owns (e.g. its light sampler), kept alive
-    // as long as any copy of the model.
-    std::shared_ptr<const void> owned;
-};
 
 // What a render gives back: the image, its layers, their per-pixel variances and counts.
 struct RenderResult {

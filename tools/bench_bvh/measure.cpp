@@ -10,7 +10,7 @@
 
 #include "io/scene_file.h"
 #include "lights/lights.h"
-#include "render/app.h"
+#include "render/progressive.h"
 #include "rendering_equation.h"
 #include "scene/scene.h"
 
@@ -334,8 +334,7 @@ void measure_render(const Options& o, const std::vector<int>& thread_counts, Tab
     if (!(wanted(o.only_scenes, "cornell_box") && wanted(o.only_sets, "render"))) return;
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {256, 256});
-    const LightSampler lights(scene);
-    const Model model = make_path_tracing_model(scene, lights, {});
+    const PathTracingModel model(scene, {});
     const int spp = o.quick ? 8 : 32;
     const std::vector<RenderStats> best = best_renders(scene, model, spp, thread_counts);
     double single = 0.0;

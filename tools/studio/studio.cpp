@@ -446,7 +446,7 @@ uint64_t Studio::start(int pane_index, const Params& params, uint64_t generation
         throw RequestError("scene: out of memory while loading it");
     }
     check_memory_budget(state->inputs);
-    state->films = std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model,
+    state->films = std::make_unique<ProgressiveFilms>(state->inputs.scene, *state->inputs.model,
                                                       state->options.clamp);
     state->settings = render_settings(state->options);
     state->settings.threads = limits_.threads;
@@ -562,7 +562,7 @@ void Studio::want_reference(const std::string& scene_id, const std::string& scen
                 cache_stem(cache_, s, state->inputs.scene.input_files, width, height, albedo,
                            limits_.reference_spp);
     state->films =
-        std::make_unique<ProgressiveFilms>(state->inputs.scene, state->inputs.model, 0.0f);
+        std::make_unique<ProgressiveFilms>(state->inputs.scene, *state->inputs.model, 0.0f);
     state->settings = render_settings(state->options);
     state->settings.threads = limits_.threads;
     state->settings.stop = &state->stop;
@@ -687,7 +687,7 @@ void Studio::publish(PaneState& job, const std::shared_ptr<Snapshot>& snapshot, 
 void Studio::check_memory_budget(const RunInputs& in) const {
     // Per pixel and film (the image and each layer): the film's sums (FilmPixel),
     // and the snapshot's mean and variance images, twice (the one shown, the one being made).
-    const double films = 1.0 + static_cast<double>(in.model.layer_names.size());
+    const double films = 1.0 + static_cast<double>(in.model->layer_names.size());
     const double bytes =
         films * in.scene.width * in.scene.height * (sizeof(FilmPixel) + 2.0 * 24.0);
     if (bytes > limits_.memory_mb * 1048576.0) {
@@ -756,7 +756,7 @@ std::string pane_json(const PaneView& v, bool is_reference) {
         for (size_t k = 0; k < snap->layer_luminance.size(); ++k) {
             const double sum = snap->layer_luminance[k], total = snap->image_luminance;
             s += std::string(k ? ", " : "") +
-                 "{\"name\": " + json_quote(p.inputs.model.layer_names[k]) +
+                 "{\"name\": " + json_quote(p.inputs.model->layer_names[k]) +
                  ", \"share\": " + json_number(total > 0 ? sum / total : 0.0) +
                  ", \"mean\": " + json_number(sum / n) + "}";
         }
@@ -767,7 +767,7 @@ std::string pane_json(const PaneView& v, bool is_reference) {
                  json_number(snap->chart[k].error.mse) + "]";
         s += "]";
     }
-    s += ", \"notes\": " + json_strings(p.inputs.model.notes);
+    s += ", \"notes\": " + json_strings(p.inputs.model->notes);
     s += ", \"bias\": " + json_strings(run_bias(p.options, p.inputs));
     if (!is_reference) {
         s += ", \"reference\": " + (v.has_reference ? json_quote(v.reference_source) : "null");
@@ -873,7 +873,7 @@ std::string Studio::probe_json(int pane_index, int x, int y, int light, int samp
         const Color v = r.layers[k].at(x, y);
         const float total = luminance(L);
         s += std::string(k ? ", " : "") +
-             "{\"name\": " + json_quote(p->inputs.model.layer_names[k]) +
+             "{\"name\": " + json_quote(p->inputs.model->layer_names[k]) +
              ", \"value\": " + json_color(v) +
              ", \"share\": " + json_number(total > 0 ? luminance(v) / total : 0.0) + "}";
     }
