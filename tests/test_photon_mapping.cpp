@@ -1,4 +1,5 @@
-// Lesson 6's groundwork: the photon grid against a brute-force scan, the kernels' integrals.
+// Lesson 6's groundwork: the photon grid against a brute-force scan, the kernels' integrals,
+// the photons' determinism.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,8 +7,11 @@
 #include <cstring>
 #include <vector>
 
+#include "io/scene_file.h"
 #include "kernel.h"
+#include "lights/lights.h"
 #include "photon_map.h"
+#include "photons.h"
 #include "statistics.h"
 #include "test_util.h"
 
@@ -148,4 +152,41 @@ TEST(Kernel, EachIntegratesToOneOverTheDisk) {
         EXPECT_EQ(kernel_weight(kernel, 1.0f, 1.0f), 0.0f);  // 0 on the rim and outside
         EXPECT_EQ(kernel_weight(kernel, 4.0f, 1.0f), 0.0f);
     }
+}
+
+TEST(Photons, AreTheSameForAnyNumberOfThreadsAndNameTheirVertices) {
+    // The Cornell box (an area light, diffuse walls, several bounces): 3000 subpaths of
+    // iteration 5 on 1 and 3 threads give the same photons, subpaths and vertices; each photon's
+    // vertex is where it lies, never y_0 and never a delta vertex.
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {16, 16});
+    const LightSampler lights(scene);
+    const Bidir b{scene, lights, scene.camera, scene.width, scene.height};
+    const LightPaths one = trace_photons(b, 7, 5, 3000, 8, 3, 1);
+    const LightPaths three = trace_photons(b, 7, 5, 3000, 8, 3, 3);
+    ASSERT_EQ(one.count, 3000);
+    ASSERT_EQ(one.photons.size(), three.photons.size());
+    ASSERT_GT(one.photons.size(), 3000u);  // several bounces each, on average
+    EXPECT_EQ(
+        std::memcmp(one.photons.data(), three.photons.data(), one.photons.size() * sizeof(Photon)),
+        0);
+    EXPECT_EQ(one.start, three.start);
+    ASSERT_EQ(one.vertices.size(), three.vertices.size());
+    for (size_t k = 0; k < one.vertices.size(); ++k) {
+        EXPECT_EQ(one.vertices[k].p, three.vertices[k].p);
+        EXPECT_EQ(one.vertices[k].beta, three.vertices[k].beta);
+        EXPECT_EQ(one.vertices[k].pdf_fwd, three.vertices[k].pdf_fwd);
+    }
+    for (const Photon& photon : one.photons) {
+        const Vertex& v = one.vertex_of(photon);
+        EXPECT_GE(photon.vertex, 1u);
+        EXPECT_EQ(v.p, photon.p);
+        EXPECT_EQ(v.beta, photon.beta);
+        EXPECT_FALSE(v.bsdf->is_delta());
+    }
+    EXPECT_GE(one.bytes(),
+              one.vertices.size() * sizeof(Vertex) + one.photons.size() * sizeof(Photon));
+    // Another iteration draws other numbers.
+    const LightPaths next = trace_photons(b, 7, 6, 3000, 8, 3, 1);
+    EXPECT_NE(next.photons.front().p, one.photons.front().p);
 }
