@@ -14,6 +14,7 @@
 #include "lights/lights.h"
 #include "photon_map.h"
 #include "photons.h"
+#include "radius.h"
 #include "statistics.h"
 #include "test_util.h"
 
@@ -267,6 +268,24 @@ TEST(Photons, FromAPointLightCarryItsPowerAndOnlyLightFromTheirSideCounts) {
             EXPECT_GT(e.L.x, 0.0f);
         }
     }
+}
+
+TEST(PhotonRadius, IsTwoPixelFootprintsAtTheMedianDistanceWithinTheScenesLimits) {
+    // The camera 3 m above the floor, looking straight down with a 40 degree field: the grid's
+    // rays meet the floor at distances from 3 to 3 / cos(theta) at the image's corners, so the
+    // radius lies between 2 a 3 and 2 a 3 / cos(theta_corner), a the pixel's side at distance 1.
+    const Scene scene = point_light_over_a_floor(1.0, 1.0, 0.5);
+    const float a = pixel_side_at_unit_distance(scene.camera, 16, 16);
+    EXPECT_NEAR(a, 2.0 * std::tan(20.0 * kPi / 180.0) / 16.0, 1e-6);
+    const double cos_corner =
+        1.0 / std::sqrt(1.0 + 2.0 * std::pow(std::tan(20.0 * kPi / 180.0), 2));
+    const float r = default_photon_radius(scene);
+    EXPECT_GE(r, 2.0f * a * 3.0f * 0.9999f);
+    EXPECT_LE(r, 2.0f * a * 3.0f / cos_corner);
+    // The limits: at most 5% of the scene box's diagonal, at least 1e-4 of it.
+    const float diagonal = glm::length(scene.bounds().extent());
+    EXPECT_FLOAT_EQ(default_photon_radius(scene, 1000.0f), 0.05f * diagonal);
+    EXPECT_FLOAT_EQ(default_photon_radius(scene, 1e-6f), 1e-4f * diagonal);
 }
 
 namespace {
