@@ -1,0 +1,37 @@
+// Lesson 6, section 4: the photons' radiance estimate (see density.h).
+#include "density.h"
+
+#include <cmath>
+
+namespace lessons {
+
+bool photon_on_same_side(const Photon& p, const Vec3& n_geo, const Vec3& wo) {
+    // Each normal turned to the side its light (or view) arrives from.
+    const Vec3 lit_side = glm::dot(p.n, p.wi) >= 0.0f ? p.n : -p.n;
+    const Vec3 seen_side = glm::dot(n_geo, wo) >= 0.0f ? n_geo : -n_geo;
+    return glm::dot(lit_side, seen_side) > 0.0f;
+}
+
+RadianceEstimate reflected_radiance(const PhotonGrid& grid, const SurfaceInteraction& si,
+                                    const Bsdf& bsdf, const Vec3& wo, Kernel kernel,
+                                    int light_paths) {
+    RadianceEstimate estimate;
+    if (light_paths <= 0 || bsdf.is_delta()) return estimate;  // a mirror gathers no photons
+    const float r = grid.radius();
+    Color sum(0.0f);
+    grid.for_each_within(si.p, [&](const Photon& p) {
+        if (!photon_on_same_side(p, si.n_geo, wo)) return;
+        const Vec3 d = p.p - si.p;
+        const float K = kernel_weight(kernel, glm::dot(d, d), r);
+        // |wi . n_s| / |wi . n_g|: the camera side's shading cosine over the photons' own.
+        const float cos_geo = std::fabs(glm::dot(p.wi, si.n_geo));
+        const float shading = cos_geo > 0.0f ? bsdf.abs_cos(p.wi) / cos_geo : 0.0f;
+        // K(|y_p - x|) f(wo, wi_p) beta_p: one photon's term of the estimate.
+        sum += K * shading * bsdf.eval(wo, p.wi) * p.beta;
+        ++estimate.photons;
+    });
+    estimate.L = sum / static_cast<float>(light_paths);
+    return estimate;
+}
+
+}  // namespace lessons

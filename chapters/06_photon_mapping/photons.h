@@ -1,0 +1,62 @@
+// Lesson 6, section 3: tracing the photons. An iteration traces N light subpaths with lesson 5's
+// light_subpath, and every vertex y_i (i >= 1) on a surface that does not scatter by a delta
+// (mirror, glass) leaves a photon there: beta(y_i), the direction it came from, the surface's
+// normal (photon_map.h). What each kind of light gives (LightSampler::sample_emission, as
+// lesson 5's light_subpath calls it):
+//   a point light of intensity I, chosen with probability P: y_0 its position, a direction
+//     uniform on the sphere (1 / (4 pi) per sr), so every photon at y_1 carries
+//     beta = I / P * 4 pi: its whole power 4 pi I, shared among the subpaths that chose it;
+//   an area light of radiance L_e and area A, chosen with probability P: y_0 uniform on it
+//     (P / A per m^2) and a direction cos-distributed about its emitting side (cos / pi per sr,
+//     half of that per side for a two-sided light), so beta(y_1) = L_e cos / (P/A cos/pi) =
+//     pi A L_e / P: again its power (times two for two sides), shared;
+//   the environment (the sky, a map): lesson 5 starts no light subpath there (sample_emission
+//     returns none, light_subpath an empty path). Photons from the sky are left out: its light
+//     is found by next-event estimation and by camera paths that escape. A subpath that chose
+//     the sky still counts among the N: the other lights' betas are divided by their own
+//     choice probabilities, so (1/N) sum over photons stays an unbiased estimate of their light.
+// y_0 itself leaves no photon: light that reaches the camera vertex straight from a light is
+// direct light, which next-event estimation finds with far less noise than a density estimate.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "photon_map.h"
+#include "subpaths.h"
+
+namespace lessons {
+
+// One iteration's light subpaths, their photons, and the memory they hold.
+struct LightPaths {
+    // Every subpath's vertices, subpath after subpath: subpath j is
+    // vertices[start[j] .. start[j + 1]) (y_0 first; empty when its light starts none).
+    std::vector<Vertex> vertices;
+    std::vector<uint32_t> start;  // count + 1 offsets
+    // The photons, in subpath order and, within one, vertex order. A photon's vertex is
+    // vertices[start[photon.path] + photon.vertex].
+    std::vector<Photon> photons;
+    int count = 0;  // N, the number of light subpaths traced (those that started none included)
+
+    const Vertex& vertex_of(const Photon& photon) const {
+        return vertices[start[photon.path] + photon.vertex];
+    }
+    // Bytes held by the three arrays (their capacity).
+    size_t bytes() const;
+};
+
+// The seed of the photons' random numbers: iteration k's subpath j draws from
+// Rng(seed ^ kPhotonSeed, k, j) (sampling/rng.h), a stream of its own for each (seed, k, j)
+// and apart from the camera's, which draw from Rng(seed, pixel, sample). ("photons" in ASCII.)
+inline constexpr uint64_t kPhotonSeed = 0x70686f746f6e73ULL;
+
+// The `count` light subpaths of iteration `iteration` and their photons. Subpath j draws from
+// Rng(seed ^ kPhotonSeed, iteration, j) and is light_subpath(b, rng, max_vertices,
+// roulette_after) (y_0 counted among max_vertices; Russian roulette after roulette_after
+// bounces, < 0 never). Traced on `threads` threads (0: every hardware thread), each a contiguous
+// range of subpaths, the ranges concatenated in order: as every subpath's random numbers depend
+// on its index alone, the result is the same bits for any number of threads.
+LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
+                         int roulette_after, int threads = 0);
+
+}  // namespace lessons
