@@ -1,9 +1,6 @@
 // Lesson 5: bidirectional path tracing (see bidirectional.h).
 #include "bidirectional.h"
 
-#include <algorithm>
-
-#include "rendering_equation.h"
 
 namespace lessons {
 
@@ -13,27 +10,23 @@ int strategy_layer(int s, int t, int max_layer_segments) {
     return k <= N ? (k - 1) * (k + 2) / 2 + s : N * (N + 3) / 2;
 }
 
-Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
-                    std::span<Color> layers, std::vector<Splat>& splats) {
+void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+                    std::vector<Vertex>& camera, std::vector<Vertex>& light) {
     const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
-    thread_local std::vector<Vertex> camera, light;
     // Light tracing needs no camera path: the camera is joined to every light vertex.
     camera_subpath(b, ray, rng, options.light_tracing ? 1 : longest + 1, options.roulette_after,
                    camera);
     light_subpath(b, rng, longest, options.roulette_after, light);
+}
 
+Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+                    std::span<Color> layers, std::vector<Splat>& splats) {
+    thread_local std::vector<Vertex> camera, light;
+    trace_subpaths(b, ray, rng, options, camera, light);
     Color L(0.0f);
-    const int light_vertices = static_cast<int>(light.size());
-    const bool weighted = !options.light_tracing;
-    for (int t = 1; t <= static_cast<int>(camera.size()); ++t) {
-        for (int s = options.light_tracing ? 1 : 0; s <= std::max(light_vertices, 1); ++s) {
-            const int segments = s + t - 1;
-            if (segments < 1 || segments > longest) continue;
-            // A light sample (s = 1, t >= 2) is drawn afresh; every other s needs its vertices.
-            if (s > light_vertices && !(s == 1 && t >= 2)) continue;
-            const StrategySample c = connect(b, light, s, camera, t, rng, weighted);
-            if (is_black(c.L)) continue;
-            const Color contribution = weighted ? c.weight * c.L : c.L;
+    for_each_strategy(
+        b, camera, light, rng, options, 0.0,
+        [&](int s, int t, const StrategySample& c, const Color& contribution) {
             const Color layer_share = options.unweighted_layers ? c.L : contribution;
             const int layer =
                 options.strategy_layers > 0 ? strategy_layer(s, t, options.strategy_layers) : -1;
@@ -45,8 +38,7 @@ Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
                 L += contribution;
                 if (layer >= 0) layers[layer] += layer_share;
             }
-        }
-    }
+        });
     return L;
 }
 

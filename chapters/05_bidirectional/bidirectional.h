@@ -16,12 +16,14 @@
 // add up to one that keeps each strategy's strengths.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
 #include "connect.h"
 #include "lights/lights.h"
 #include "render/model.h"
+#include "rendering_equation.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -38,6 +40,20 @@ struct BidirOptions {
 // segments have the k + 1 strategies s = 0 .. k, in order of k; any longer path goes to the
 // last layer, number N (N + 3) / 2.
 int strategy_layer(int s, int t, int max_layer_segments);
+
+// The two subpaths of one pixel sample: the camera subpath of `ray` and a light subpath, as long
+// as the options allow (light tracing alone needs no camera path beyond the camera).
+void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+                    std::vector<Vertex>& camera, std::vector<Vertex>& light);
+
+// Every strategy (s, t) that joins the two subpaths into a path of at most the options' length:
+// calls add(s, t, sample, contribution) for each that carries light, with its contribution
+// weighted by MIS (unless light tracing alone, which is unweighted). merge_eta > 0 adds lesson
+// 6's merges to the weights (mis.h); 0 is lesson 5.
+template <class Add>
+void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
+                       std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
+                       double merge_eta, Add&& add);
 
 // One sample of the pixel of camera ray `ray`: the returned radiance (strategies with t >= 2),
 // each layer's share, and the light of t = 1 strategies appended to `splats` for the pixels it
@@ -58,5 +74,25 @@ private:
     Bidir b_;  // refers to lights_
     BidirOptions options_;
 };
+
+template <class Add>
+void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
+                       std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
+                       double merge_eta, Add&& add) {
+    const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
+    const int light_vertices = static_cast<int>(light.size());
+    const bool weighted = !options.light_tracing;
+    for (int t = 1; t <= static_cast<int>(camera.size()); ++t) {
+        for (int s = options.light_tracing ? 1 : 0; s <= std::max(light_vertices, 1); ++s) {
+            const int segments = s + t - 1;
+            if (segments < 1 || segments > longest) continue;
+            // A light sample (s = 1, t >= 2) is drawn afresh; every other s needs its vertices.
+            if (s > light_vertices && !(s == 1 && t >= 2)) continue;
+            const StrategySample c = connect(b, light, s, camera, t, rng, weighted, merge_eta);
+            if (is_black(c.L)) continue;
+            add(s, t, c, weighted ? c.weight * c.L : c.L);
+        }
+    }
+}
 
 }  // namespace lessons

@@ -25,7 +25,9 @@ struct StrategySample {
 
 // Strategy (s, t) for the two subpaths (light has at least s vertices, camera at least t).
 // Draws random numbers only for s = 1 (the light sample).
+// merge_eta > 0: lesson 6's merges count among the techniques of the weight (mis.h).
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
-                       std::span<const Vertex> camera, int t, Rng& rng, bool weighted);
+                       std::span<const Vertex> camera, int t, Rng& rng, bool weighted,
+                       double merge_eta = 0.0);
 
 }  // namespace lessons

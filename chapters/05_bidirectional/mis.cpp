@@ -80,9 +80,20 @@ bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
     return true;
 }
 
-float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
-                 std::span<const Vertex> camera, int t, const Vertex* light_sample,
-                 const Vertex* camera_end) {
+namespace {
+
+// The relative densities of every technique for one path, against the technique that made it:
+// strategy (s, t), the path x_0 .. x_{n-1} being light[0 .. s-1] + camera[t-1 .. 0] (with the
+// vertices the strategy made itself, as in mis_weight); or, given `photon` (lesson 6), the merge
+// at x_s = camera[t - 1] of the light subpath light[0 .. s-1], photon, whose vertex `photon`
+// landed near it. Returns the sum over the connection strategies k != s of (p_k / p_s)^2 and,
+// with merging (eta > 0), over the merges at every vertex j != s of (p_merge(j) / p_s)^2;
+// `merged` (if not null) receives p_merge(s) / p_s, the merge at x_s itself (0 where none can be
+// made); `joinable` whether strategy s itself can make the path.
+double other_techniques(const Bidir& b, std::span<const Vertex> light, int s,
+                        std::span<const Vertex> camera, int t, const Vertex* light_sample,
+                        const Vertex* camera_end, double eta, const Vertex* photon,
+                        double* merged, bool* joinable) {
     const int n = s + t;
     // x_i, from the light end: light[i] for i < s, then camera[n - 1 - i].
     auto x = [&](int i) -> const Vertex& {
@@ -90,8 +101,6 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
         const int j = n - 1 - i;
         return (t == 1 && camera_end) ? *camera_end : camera[j];
     };
-    // A lamp seen directly, inside its image: the camera's alone (pixel_inside_lamp, mis.h).
-    if (n == 2 && pixel_inside_lamp(b, x(0))) return s == 0 ? 1.0f : 0.0f;
 
     thread_local std::vector<VertexDensities> d;
     d.assign(n, {});
@@ -100,27 +109,37 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
         d[i] = i < s ? VertexDensities{v.pdf_fwd, v.pdf_rev, v.delta}
                      : VertexDensities{v.pdf_rev, v.pdf_fwd, v.delta};
     }
-    // The join, q = x_{s-1} to p = x_s: their densities from the other side, and their
-    // neighbours'. When s = 0, p is on a light: the light subpath would have started there.
     const Vertex* q = s > 0 ? &x(s - 1) : nullptr;
     const Vertex& p = x(s);
-    d[s].from_light =
-        q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p) : light_origin_density(b, p);
-    if (t > 1)
-        d[s + 1].from_light =
-            q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
-    if (q) d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
-    if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
-    // The join's ends are joined, not scattered.
+    if (photon) {
+        // A merge: x_s was made from both sides, the light subpath's vertex `photon` standing in
+        // for it on the light side (its own density, and its BSDF going on towards x_{s+1}).
+        d[s].from_light = photon->pdf_fwd;
+        if (t > 1) d[s + 1].from_light = density_towards(b, *photon, q, x(s + 1));
+        d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
+        if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
+    } else {
+        // The join, q = x_{s-1} to p = x_s: their densities from the other side, and their
+        // neighbours'. When s = 0, p is on a light: the light subpath would have started there.
+        d[s].from_light = q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p)
+                            : light_origin_density(b, p);
+        if (t > 1)
+            d[s + 1].from_light =
+                q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
+        if (q) d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
+        if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
+    }
+    // The join's ends are joined, not scattered (a merge's x_{s-1} scattered as it did).
+    if (joinable) *joinable = !(q && d[s - 1].delta) && !d[s].delta;
     d[s].delta = false;
-    if (q) d[s - 1].delta = false;
+    if (q && !photon) d[s - 1].delta = false;
     through_delta_chains(x, n, d);
 
     // x_0 is made differently by different strategies (Veach 1997, 10.2.2): strategy 0's camera
     // path hits it (no camera path hits a point light: 0); strategy 1's light sample picks it
     // (lesson 3's density, by solid angle where it can; for a lamp seen directly, n = 2,
     // strategy 1 is light tracing and starts there); every other strategy starts its light
-    // subpath there (the sky starts none: 0).
+    // subpath there (the sky starts none: 0), and so does every merge.
     const bool sky = x(0).infinite, point_light = x(0).point_light;
     const double hit = point_light ? 0.0 : d[0].from_camera;
     const double started = sky ? 0.0 : d[0].from_light;
@@ -133,23 +152,75 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // and back as it moves towards the light (Veach 1997, eq. 10.9). A zero on the way makes
     // every strategy beyond it impossible, and its ratio 0. Strategies that would join at a
     // mirror or glass have no density to meet and are left out.
+    //
+    // Lesson 6's merges: merging at x_j takes x_0 .. x_j from the light subpath (x_j landing
+    // within r of the camera subpath's x_j) and x_j .. x_{n-1} from the camera subpath. Its
+    // density is strategy j's with x_j made twice, once from each side, the light side's landing
+    // anywhere in the disk of area pi r^2 about the camera's: p_merge(j) = p_j p_L(x_j) pi r^2,
+    // times N, as each camera subpath meets the photons of N light subpaths where a join meets
+    // one (Georgiev et al. 2012, section 4.2; Hachisuka et al. 2012, eq. 9). eta = N pi r^2.
+    // Merges need a vertex that scatters by a non-delta BSDF with a light subpath of two
+    // vertices or more (x_0 leaves no photon) and a camera subpath of two or more.
     const double own_x0 = divisor(x0_density(s));
+    auto merge_ratio = [&](int j, double m_j) {
+        if (j < 1 || j > n - 2 || d[j].delta) return 0.0;
+        return started / own_x0 * m_j * eta * d[j].from_light;
+    };
     double sum = 0.0;
     double m = 1.0;
     for (int k = s + 1; k < n; ++k) {  // the join nearer the camera: x_{k-1} from the light
         if (k >= 2) m *= d[k - 1].from_light / divisor(d[k - 1].from_camera);
         const double ratio = x0_density(k) / own_x0 * m;
         if (!d[k - 1].delta && !d[k].delta) sum += ratio * ratio;
+        if (eta > 0.0) sum += merge_ratio(k, m) * merge_ratio(k, m);
     }
     m = 1.0;
     for (int k = s - 1; k >= 0; --k) {  // the join nearer the light: x_k from the camera
         if (k >= 1) m *= d[k].from_camera / divisor(d[k].from_light);
         const double ratio = x0_density(k) / own_x0 * m;
         if (k == 0 || (!d[k - 1].delta && !d[k].delta)) sum += ratio * ratio;
+        if (eta > 0.0) sum += merge_ratio(k, m) * merge_ratio(k, m);
     }
-    // The power heuristic (Veach 1997, section 9.2): 1 / sum over all k of (p_k / p_s)^2, the
-    // strategy's own term being 1.
-    return static_cast<float>(1.0 / (1.0 + sum));
+    if (merged) *merged = eta > 0.0 ? merge_ratio(s, 1.0) : 0.0;
+    return sum;
+}
+
+}  // namespace
+
+float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
+                 std::span<const Vertex> camera, int t, const Vertex* light_sample,
+                 const Vertex* camera_end, double merge_eta) {
+    const int n = s + t;
+    // A lamp seen directly, inside its image: the camera's alone (pixel_inside_lamp, mis.h).
+    if (n == 2) {
+        const Vertex& x0 = s == 0 ? camera[1] : (s == 1 && light_sample) ? *light_sample : light[0];
+        if (pixel_inside_lamp(b, x0)) return s == 0 ? 1.0f : 0.0f;
+    }
+    // The power heuristic (Veach 1997, section 9.2): 1 / sum over all techniques k of
+    // (p_k / p_s)^2, the strategy's own term being 1; with merging, the merge at x_s counts too.
+    double merged = 0.0;
+    const double others =
+        other_techniques(b, light, s, camera, t, light_sample, camera_end, merge_eta, nullptr,
+                         merge_eta > 0.0 ? &merged : nullptr, nullptr);
+    return static_cast<float>(1.0 / (1.0 + others + merged * merged));
+}
+
+float merge_weight(const Bidir& b, std::span<const Vertex> light, int s, const Vertex& photon,
+                   std::span<const Vertex> camera, int t, double merge_eta) {
+    // Strategy s's light sample would pick x_0 = y_0 from the merged vertex, camera[t - 1].
+    Vertex sampled;
+    if (s == 1) {
+        sampled = light[0];
+        sampled.pdf_light_sample = light_sample_density(b, sampled, camera[t - 1]);
+    }
+    double merged = 0.0;
+    bool joinable = false;
+    const double others = other_techniques(b, light, s, camera, t, s == 1 ? &sampled : nullptr,
+                                           nullptr, merge_eta, &photon, &merged, &joinable);
+    // Everything against strategy s (its own term 1, if it can join the path at all): the
+    // merge's term over the sum of all.
+    const double all = (joinable ? 1.0 : 0.0) + others + merged * merged;
+    return all > 0.0 ? static_cast<float>(merged * merged / all) : 0.0f;
 }
 
 }  // namespace lessons

@@ -58,9 +58,18 @@ bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light);
 // The power-heuristic weight of strategy (s, t) for the path light[0 .. s-1] + camera[t-1 .. 0].
 // The vertices the strategy made itself, if any: `light_sample` instead of light[0] when s = 1
 // (a light sample at z_{t-1}), `camera_end` instead of camera[0] when t = 1 (the camera, joined
-// to a light vertex).
+// to a light vertex). With merge_eta = N pi r^2 > 0 (lesson 6: vertex connection and merging,
+// N light subpaths' photons gathered within radius r), the merges at every vertex that can make
+// the path count among the techniques; 0 (lesson 5): the connections alone.
 float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
                  std::span<const Vertex> camera, int t, const Vertex* light_sample,
-                 const Vertex* camera_end);
+                 const Vertex* camera_end, double merge_eta = 0.0);
+
+// Lesson 6: the power-heuristic weight of merging at x_s = camera[t - 1]: the light subpath
+// light[0 .. s-1] went on to `photon`, a vertex within r of camera[t - 1], and the two are taken
+// as one, x_s (s >= 1, t >= 2). Against every connection strategy and every other merge of the
+// path, with merge_eta = N pi r^2 as above.
+float merge_weight(const Bidir& b, std::span<const Vertex> light, int s, const Vertex& photon,
+                   std::span<const Vertex> camera, int t, double merge_eta);
 
 }  // namespace lessons

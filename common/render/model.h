@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/math.h"
+#include "io/report.h"
 #include "render/render.h"
 #include "sampling/rng.h"
 
@@ -34,6 +35,17 @@ public:
     // Whether sample() splats: then the render loop goes one pass per sample index, so that the
     // splats of a pass land in a fixed order (render_splatting, render/render.h).
     bool splats = false;
+    // Called by the pass-by-pass loop (a model that splats) before the samples of index k of
+    // every pixel, with no sample in flight: a model that prepares something per pass (lesson 6
+    // traces its photons) does it here, on settings.threads threads, and keeps it for sample()
+    // (so state it changes here is `mutable`: it is a cache of the pass, never read across
+    // passes). Throws InputError if the pass cannot be made (lesson 6: over its memory cap).
+    virtual void begin_pass(int /*sample_index*/, const RenderSettings& /*settings*/) const {}
+    // Rays traced by begin_pass so far, for the render's ray count.
+    virtual uint64_t pass_rays() const { return 0; }
+    // Figures of the run for its report beyond the driver's own (lesson 6: the radius reached,
+    // the photons' memory), written after the render.
+    virtual void report(Report& /*report*/) const {}
     // The layers the model splits its radiance into (e.g. light by number of bounces), each
     // written as an image <out>_<name> with its share of the total printed; they add up to the
     // image unless a note says otherwise.

@@ -47,13 +47,17 @@ RenderStats ProgressiveFilms::render_into(std::vector<Film>& films, int end,
     const int begin = part_.first_sample + done_, stop = part_.first_sample + end;
     // The render loop for the model's kind, each calling Model::sample.
     const Model& m = model_;
-    if (m.splats)
-        return render_splatting(
+    if (m.splats) {
+        const uint64_t pass_rays = m.pass_rays();
+        RenderStats stats = render_splatting(
             scene_.camera, films, s,
             [&m](const Ray& ray, Rng& rng, std::span<Color> layers, std::vector<Splat>& splats) {
                 return m.sample(ray, rng, layers, splats);
             },
-            begin, stop);
+            begin, stop, [&m, &s](int k) { m.begin_pass(k, s); });
+        stats.rays += m.pass_rays() - pass_rays;  // what the passes' preparation traced
+        return stats;
+    }
     if (m.layer_names.empty())
         return render(
             scene_.camera, films[0], s,

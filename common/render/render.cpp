@@ -170,7 +170,8 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
 
 RenderStats render_splatting(const Camera& camera, std::span<Film> films,
                              const RenderSettings& settings, const SplattingRadianceFn& radiance,
-                             int sample_begin, int sample_end) {
+                             int sample_begin, int sample_end,
+                             const std::function<void(int)>& before_pass) {
     const auto start = std::chrono::steady_clock::now();
     const Tiles tiles(films[0].width(), films[0].height());
     if (settings.image_width > 0 &&
@@ -189,6 +190,11 @@ RenderStats render_splatting(const Camera& camera, std::span<Film> films,
     std::vector<std::vector<Splat>> tile_splats(tiles.count);
     RenderStats stats;
     for (int s = sample_begin; s < sample_end; ++s) {
+        if (settings.stop && settings.stop->load()) {
+            stats.stopped = true;
+            break;
+        }
+        if (before_pass) before_pass(s);
         const TileRun run = run_tiles(tiles.count, settings, [&](int tile) {
             std::vector<Color> layers(layer_count);
             std::vector<Splat>& splats = tile_splats[tile];

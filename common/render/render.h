@@ -88,9 +88,11 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
 
 // The same for a splatting model, one pass per sample index (see above). A pass interrupted by
 // settings.stop is dropped whole: every pixel then has the samples of the passes before it.
+// `before_pass(k)`, if given, is called before pass k's samples (render/model.h's begin_pass).
 RenderStats render_splatting(const Camera& camera, std::span<Film> films,
                              const RenderSettings& settings, const SplattingRadianceFn& radiance,
-                             int sample_begin, int sample_end);
+                             int sample_begin, int sample_end,
+                             const std::function<void(int)>& before_pass = {});
 
 int resolve_thread_count(int requested);
 
