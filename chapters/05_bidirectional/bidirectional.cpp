@@ -1,7 +1,6 @@
 // Lesson 5: bidirectional path tracing (see bidirectional.h).
 #include "bidirectional.h"
 
-
 namespace lessons {
 
 int strategy_layer(int s, int t, int max_layer_segments) {

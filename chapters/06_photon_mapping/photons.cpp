@@ -42,6 +42,7 @@ LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count
     std::vector<LightPaths> parts(static_cast<size_t>(part_count(n, threads, 256)));
     parallel_parts(n, threads, 256, [&](size_t begin, size_t end, int part) {
         LightPaths& out = parts[static_cast<size_t>(part)];
+        const uint64_t rays_before = rays_traced_by_this_thread();
         std::vector<Vertex> path;
         for (size_t j = begin; j < end; ++j) {
             Rng rng(seed ^ kPhotonSeed, static_cast<uint64_t>(iteration), j);
@@ -53,6 +54,7 @@ LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count
                         photon_at(path[i], static_cast<uint32_t>(j), static_cast<uint32_t>(i)));
             out.vertices.insert(out.vertices.end(), path.begin(), path.end());
         }
+        out.rays = rays_traced_by_this_thread() - rays_before;
     });
 
     // The parts in order: subpath j's vertices start where the parts before it ended.
@@ -60,6 +62,7 @@ LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count
     all.count = static_cast<int>(n);
     size_t vertices = 0, photons = 0;
     for (const LightPaths& part : parts) {
+        all.rays += part.rays;
         vertices += part.vertices.size();
         photons += part.photons.size();
     }

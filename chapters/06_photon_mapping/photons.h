@@ -37,6 +37,7 @@ struct LightPaths {
     // vertices[start[photon.path] + photon.vertex].
     std::vector<Photon> photons;
     int count = 0;  // N, the number of light subpaths traced (those that started none included)
+    uint64_t rays = 0;  // rays traced to make them
 
     const Vertex& vertex_of(const Photon& photon) const {
         return vertices[start[photon.path] + photon.vertex];

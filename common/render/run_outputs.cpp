@@ -138,6 +138,7 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
     report.set("notes", in.model->notes);
     if (!shares.empty()) report.set("layers", shares);
     if (in.model->splats) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
+    in.model->report(report);
     report.write(o.report);
 }
 

@@ -1,0 +1,63 @@
+// Lesson 6: photons, as a lesson: its flags (the method, the radius and its schedule, the
+// kernel, the technique images, the photons' memory, path length), and the model.
+#include <CLI/CLI.hpp>
+
+#include "path_length_flags.h"
+#include "photon_mapping.h"
+#include "render/choice_flag.h"
+#include "render/lesson.h"
+
+namespace lessons {
+
+namespace {
+
+struct PhotonFlags {
+    PhotonOptions options;
+
+    void bind(CLI::App& app) {
+        add_choice_flag(app, "--method", options.method,
+                        Choices<PhotonMethod>(std::begin(kPhotonMethodNames),
+                                              std::end(kPhotonMethodNames)),
+                        "pm (photon mapping, a fixed radius), ppm (progressive: the radius "
+                        "shrinks every pass), bpt (lesson 5), or vcm (vertex connection and "
+                        "merging: lesson 5's joins and the photons, weighted by MIS)");
+        add_path_length_flags(app, options.paths.max_depth, options.paths.roulette_after);
+        app.add_option("--radius", options.radius,
+                       "The photons' radius in the first pass, in scene units (0: two pixel "
+                       "footprints at the median distance of what the camera sees)")
+            ->check(CLI::NonNegativeNumber)
+            ->capture_default_str();
+        app.add_option("--alpha", options.alpha,
+                       "The radius of pass k is r (k + 1)^((alpha - 1) / 2): 1 keeps it, less "
+                       "shrinks it (0: the method's, pm 1, ppm 2/3, vcm 3/4)")
+            ->check(CLI::Range(0.0, 1.0))
+            ->capture_default_str();
+        add_choice_flag<Kernel>(app, "--kernel", options.kernel,
+                                {{"constant", Kernel::Constant},
+                                 {"epanechnikov", Kernel::Epanechnikov}},
+                                "The photons' weight over the disk: constant or epanechnikov");
+        app.add_flag("--techniques", options.technique_layers,
+                     "Also write the light of each kind of technique as images, adding up to "
+                     "the image: PREFIX_connection, PREFIX_merging and PREFIX_light_tracing "
+                     "(bpt, vcm), PREFIX_direct and PREFIX_photons (pm, ppm)");
+        app.add_option("--max-photon-mb", options.max_photon_mb,
+                       "The most memory one pass's light subpaths and photons may take, in MiB")
+            ->check(CLI::PositiveNumber)
+            ->capture_default_str();
+    }
+    std::unique_ptr<Model> make_model(const Scene& scene) const {
+        return std::make_unique<PhotonMappingModel>(scene, options);
+    }
+};
+
+}  // namespace
+
+Lesson photon_mapping_lesson() {
+    return lesson_with_flags<PhotonFlags>(
+        "06_photon_mapping",
+        "Lesson 6, photons: photon mapping, progressive photon mapping, and vertex connection "
+        "and merging (lesson 5's joins and the photons, weighted by MIS)",
+        16);
+}
+
+}  // namespace lessons

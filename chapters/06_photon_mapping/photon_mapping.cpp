@@ -1,0 +1,175 @@
+// Lesson 6: the model (see photon_mapping.h): each pass's photons, and each pixel sample by the
+// method asked for.
+#include "photon_mapping.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "io/input_error.h"
+#include "radius.h"
+
+namespace lessons {
+
+const char* photon_method_name(PhotonMethod m) {
+    for (const auto& [name, method] : kPhotonMethodNames)
+        if (method == m) return name;
+    return "?";
+}
+
+float pass_radius(float r1, float alpha, int k) {
+    return r1 * std::pow(static_cast<float>(k + 1), (alpha - 1.0f) / 2.0f);
+}
+
+float default_alpha(PhotonMethod m) {
+    switch (m) {
+        case PhotonMethod::PhotonMapping: return 1.0f;
+        case PhotonMethod::Progressive: return 2.0f / 3.0f;
+        case PhotonMethod::Bidirectional:
+        case PhotonMethod::VertexMerging: return 0.75f;
+    }
+    return 1.0f;
+}
+
+namespace {
+
+bool uses_photons(PhotonMethod m) { return m != PhotonMethod::Bidirectional; }
+bool joins(PhotonMethod m) {
+    return m == PhotonMethod::Bidirectional || m == PhotonMethod::VertexMerging;
+}
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+}  // namespace
+
+PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& options)
+    : lights_(scene),
+      b_{scene, lights_, scene.camera, scene.width, scene.height},
+      options_(options) {
+    const PhotonMethod m = options.method;
+    splats = true;  // pass by pass: each pass has its photons (and bpt and vcm splat)
+    alpha_ = options.alpha > 0.0f ? options.alpha : default_alpha(m);
+    r1_ = options.radius > 0.0f ? options.radius : default_photon_radius(scene);
+    if (options.technique_layers)
+        layer_names = joins(m) ? std::vector<std::string>{"connection", "merging", "light_tracing"}
+                               : std::vector<std::string>{"direct", "photons"};
+    if (m == PhotonMethod::Bidirectional) {
+        notes.push_back(
+            "method bpt: lesson 5's bidirectional path tracing (vertex connection without "
+            "merging): the same image, bit for bit");
+    } else if (m == PhotonMethod::VertexMerging) {
+        notes.push_back("method vcm: lesson 5's strategies and a merge at every diffuse camera "
+                        "vertex, all weighted by MIS (power heuristic), radius " +
+                        number(r1_) + " shrinking as k^" + number((alpha_ - 1.0f) / 2.0f));
+    } else {
+        notes.push_back(std::string("method ") + photon_method_name(m) +
+                        ": photons at the first diffuse camera vertex, direct light by a light "
+                        "sample there; radius " + number(r1_) +
+                        (m == PhotonMethod::PhotonMapping
+                             ? " (fixed)"
+                             : " shrinking as k^" + number((alpha_ - 1.0f) / 2.0f)));
+    }
+    if (uses_photons(m))
+        notes.push_back(std::string("kernel ") + kernel_name(options.kernel) + "; " +
+                        std::to_string(scene.width * scene.height) +
+                        " light subpaths per pass leave the photons");
+    const SceneContents contents = scene.contents();
+    if (m == PhotonMethod::PhotonMapping)
+        biased_because.push_back("a fixed radius " + number(r1_) +
+                                 ": the photons' light is blurred over it however long it renders "
+                                 "(--method ppm or vcm shrink it)");
+    else if (uses_photons(m))
+        notes.push_back("biased but consistent: the photons' blur shrinks with the radius, "
+                        "and with it the bias");
+    if (uses_photons(m) && contents.environment)
+        (m == PhotonMethod::VertexMerging ? notes : biased_because)
+            .push_back(m == PhotonMethod::VertexMerging
+                           ? "the sky leaves no photons: its light is found by the joins (camera "
+                             "paths escaping, light samples), as in lesson 5"
+                           : "the sky leaves no photons: its light after a bounce is missing (only "
+                             "the light sample at the first diffuse vertex sees it)");
+    if (contents.point_lights && contents.delta_materials)
+        notes.push_back(
+            "a point light seen in a mirror or through glass (a delta light, a delta BSDF and "
+            "the pinhole) is a path no estimator can make: it is missing, in every lesson");
+    if (!uses_photons(m) || m == PhotonMethod::VertexMerging) {
+        add_path_length_notes(*this, options.paths.max_depth, options.paths.roulette_after);
+    }
+    if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
+}
+
+void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const {
+    if (!uses_photons(options_.method) || pass_.index == k) return;
+    const int longest =
+        options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
+    PhotonPass& pass = pass_;
+    pass = PhotonPass{};  // the last pass's memory back first
+    pass.index = k;
+    pass.radius = pass_radius(r1_, alpha_, k);
+    pass.paths = trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
+                               options_.paths.roulette_after, settings.threads);
+    rays_ += pass.paths.rays;
+    pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
+    const size_t bytes = pass.bytes();
+    if (bytes > options_.max_photon_mb * 1048576.0)
+        throw InputError("command line", 0, "--max-photon-mb",
+                         "the photons of pass " + std::to_string(k) + " take " +
+                             std::to_string(bytes >> 20) + " MiB, over the cap of " +
+                             number(options_.max_photon_mb) +
+                             " MiB (a smaller image, a shorter --max-depth, or a larger cap)");
+    most_bytes_ = std::max(most_bytes_, bytes);
+    photons_ += pass.paths.photons.size();
+    ++passes_;
+    if (first_pass_ < 0 || k < first_pass_) first_pass_ = k;
+    last_pass_ = std::max(last_pass_, k);
+}
+
+Color PhotonMappingModel::sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                                 std::vector<Splat>& splats) const {
+    if (!joins(options_.method)) return photon_mapping(b_, pass_, ray, rng, options_, layers);
+    return connect_and_merge(ray, rng, layers, splats);
+}
+
+Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, std::span<Color> layers,
+                                            std::vector<Splat>& splats) const {
+    thread_local std::vector<Vertex> camera, light;
+    trace_subpaths(b_, ray, rng, options_.paths, camera, light);
+    const bool merging = options_.method == PhotonMethod::VertexMerging;
+    const double eta = merging ? static_cast<double>(std::max(pass_.paths.count, 1)) * kPi *
+                                     pass_.radius * pass_.radius
+                               : 0.0;
+    Color L(0.0f);
+    for_each_strategy(b_, camera, light, rng, options_.paths, eta,
+                      [&](int, int t, const StrategySample& c, const Color& contribution) {
+                          if (t == 1) {  // light tracing, onto the pixel it lands on
+                              splats.push_back({*c.pixel, 0, contribution});
+                              if (!layers.empty()) splats.push_back({*c.pixel, 3, contribution});
+                              return;
+                          }
+                          L += contribution;
+                          if (!layers.empty()) layers[0] += contribution;
+                      });
+    if (merging) {
+        const Color merged = merges(b_, pass_, camera, options_);
+        L += merged;
+        if (!layers.empty()) layers[1] += merged;
+    }
+    return L;
+}
+
+void PhotonMappingModel::report(Report& report) const {
+    report.set("method", photon_method_name(options_.method));
+    if (!uses_photons(options_.method)) return;
+    report.set("kernel", kernel_name(options_.kernel));
+    report.set("alpha", static_cast<double>(alpha_));
+    report.set("radius_first", static_cast<double>(r1_));
+    if (last_pass_ >= 0)
+        report.set("radius_reached", static_cast<double>(pass_radius(r1_, alpha_, last_pass_)));
+    report.set("photon_bytes", static_cast<uint64_t>(most_bytes_));
+    report.set("photons_per_pass", passes_ > 0 ? static_cast<double>(photons_) / passes_ : 0.0);
+}
+
+}  // namespace lessons

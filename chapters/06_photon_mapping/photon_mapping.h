@@ -1,0 +1,119 @@
+// Lesson 6: photons. Lesson 5 joins a camera subpath to a light subpath by a segment; where the
+// path has a diffuse vertex between two mirror or glass vertices (light from a small lamp,
+// through glass, onto a floor, then through glass again to the eye: L S+ D S+ E), no segment can
+// be joined (either end of it sits at a delta BSDF), and lesson 5 finds such paths only when a
+// camera path happens to hit the lamp. Density estimation finds them: light subpaths leave
+// photons on the surfaces (photons.h), and a camera path that reaches a diffuse point x takes
+// the photons near x as light arriving there (the radiance estimate, density.h):
+//
+//   L_r(x, wo) ~ (1 / N) sum over photons y_p within r of x of K(|y_p - x|) f(wo, wi_p) beta_p
+//
+// at the price of a blur of radius r (the kernel's bias, kernel.h). Three estimators use it:
+//   pm   photon mapping (Jensen 1996): the camera path through mirrors and glass to its first
+//        diffuse vertex x; there the direct light by next-event estimation (lesson 3's light
+//        sample) and all the light that has bounced at least once by the photons; a fixed
+//        radius, so the image converges to the blurred answer (biased);
+//   ppm  progressive photon mapping in the probabilistic form of Knaus and Zwicker (2011): pass
+//        k (the k-th sample of every pixel) is an independent photon-mapping estimate with
+//        radius r_k = r_1 k^((alpha - 1) / 2), 0 < alpha < 1; the film's average over the passes
+//        has a bias and a variance that both vanish (consistent);
+//   vcm  vertex connection and merging (Georgiev et al. 2012; Hachisuka et al. 2012): every
+//        strategy of lesson 5 and a merge at every diffuse vertex of the camera path, each
+//        weighted by MIS over all of them (mis.h: a merge is strategy j's density times
+//        p_L(x_j) N pi r^2), with the progressive radius;
+//   bpt  vcm without merging: lesson 5 itself, bit for bit.
+// Pass k's photons come from N = width x height light subpaths drawn from (seed, k, subpath)
+// (photons.h), traced before the pass (begin_pass), so the image is the same for any number of
+// threads and any split of the passes across parts of a render (docs/farm.md).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <utility>
+
+#include "bidirectional.h"
+#include "kernel.h"
+#include "photon_map.h"
+#include "photons.h"
+#include "render/model.h"
+
+namespace lessons {
+
+enum class PhotonMethod { PhotonMapping, Progressive, Bidirectional, VertexMerging };
+
+// The methods by name (the --method flag's choices).
+inline constexpr std::pair<const char*, PhotonMethod> kPhotonMethodNames[] = {
+    {"pm", PhotonMethod::PhotonMapping},
+    {"ppm", PhotonMethod::Progressive},
+    {"bpt", PhotonMethod::Bidirectional},
+    {"vcm", PhotonMethod::VertexMerging}};
+const char* photon_method_name(PhotonMethod m);
+
+struct PhotonOptions {
+    PhotonMethod method = PhotonMethod::VertexMerging;
+    BidirOptions paths;  // path length and Russian roulette, for both subpaths (lesson 5's)
+    float radius = 0.0f;  // r_1, in scene units; 0: default_photon_radius (radius.h)
+    float alpha = 0.0f;   // the radius's exponent; 0: the method's default (kDefaultAlpha)
+    Kernel kernel = Kernel::Constant;
+    bool technique_layers = false;  // layers: the light carried by each kind of technique
+    double max_photon_mb = 4096.0;  // the most memory one pass's photons may take
+};
+
+// The radius of pass k (k = 0, 1, ...): r_1 (k + 1)^((alpha - 1) / 2). alpha = 1 keeps it.
+float pass_radius(float r1, float alpha, int k);
+// The method's alpha when none is given: 1 for pm (a fixed radius), 2/3 for ppm (Knaus and
+// Zwicker's choice: the fastest the MSE can fall, N^(-2/3)), 3/4 for vcm (Georgiev et al.'s).
+float default_alpha(PhotonMethod m);
+
+// One pass's photons: its radius, the light subpaths and their photons in a grid.
+struct PhotonPass {
+    int index = -1;
+    float radius = 0.0f;
+    LightPaths paths;
+    PhotonGrid grid;
+    size_t bytes() const { return paths.bytes() + grid.bytes(); }
+};
+
+// Photon mapping at the first diffuse vertex (pm and ppm): one sample of the pixel of `ray`.
+// layers (if not empty): [0] emission and direct light, [1] the photons.
+Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& ray, Rng& rng,
+                     const PhotonOptions& options, std::span<Color> layers);
+
+// The merges of a camera subpath with the pass's photons (vcm): the sum over every vertex
+// z_{t-1} (t >= 2) that scatters by a non-delta BSDF and every photon within r of it of
+//   w_merge (1 / N) K f(z) beta_L beta_C,
+// w_merge from mis.h with eta = N pi r^2.
+Color merges(const Bidir& b, const PhotonPass& pass, std::span<const Vertex> camera,
+             const PhotonOptions& options);
+
+// Lesson 6 as a model the render loop runs. `scene` must outlive it.
+class PhotonMappingModel final : public Model {
+public:
+    PhotonMappingModel(const Scene& scene, const PhotonOptions& options);
+    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+                 std::vector<Splat>& splats) const override;
+    void begin_pass(int sample_index, const RenderSettings& settings) const override;
+    uint64_t pass_rays() const override { return rays_; }
+    void report(Report& report) const override;
+
+    float first_radius() const { return r1_; }
+    float alpha() const { return alpha_; }
+
+private:
+    Color connect_and_merge(const Ray& ray, Rng& rng, std::span<Color> layers,
+                            std::vector<Splat>& splats) const;
+
+    LightSampler lights_;
+    Bidir b_;  // refers to lights_
+    PhotonOptions options_;
+    float r1_ = 0.0f, alpha_ = 1.0f;
+    // The current pass's photons (begin_pass) and what the report says of the passes.
+    mutable PhotonPass pass_;
+    mutable uint64_t rays_ = 0;
+    mutable size_t most_bytes_ = 0;
+    mutable uint64_t photons_ = 0;
+    mutable int passes_ = 0, first_pass_ = -1, last_pass_ = -1;
+};
+
+}  // namespace lessons
