@@ -12,7 +12,7 @@
 // A bad request is a 400 with {"error": message} (a failure of the studio itself, a 500). POSTs
 // must carry the header "X-Studio: 1", which the page sends and which a page of another site
 // cannot send without the browser asking first (and this server never says yes): another site
-// open in the teacher's browser cannot start renders. The render core is studio.cpp.
+// open in the teacher's browser cannot start renders. The render core is studio.h.
 #include <httplib.h>
 #include <malloc.h>
 #include <signal.h>

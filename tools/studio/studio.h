@@ -9,6 +9,8 @@
 // variance are published as a snapshot that requests read. Restarting a pane stops its pass in
 // flight (RenderSettings::stop) and drops it. A pane's films after N samples are those of the
 // CLI with --spp N: the same films, summed in the same order (render.h).
+//
+// The core's files, one idea each, are listed in studio_internal.h (private to tools/studio).
 #pragma once
 
 #include <atomic>
@@ -148,8 +150,13 @@ private:
     std::shared_ptr<Snapshot> snapshot_of(const PaneState& job,
                                           const ProgressiveFilms& films) const;
     std::shared_ptr<PaneState> pane(int index) const;
-    void want_reference(const std::string& scene_id, const std::string& scene_path, int width,
-                        int height, float albedo);
+    // The pane's render and what it has published; RequestError if it has none yet.
+    std::pair<std::shared_ptr<PaneState>, std::shared_ptr<const Snapshot>> rendered(int pane) const;
+    // A start's render, loaded and checked, with its films: not yet in a pane.
+    std::shared_ptr<PaneState> load(const Params& params) const;
+    // Renders the reference for this scene, size and albedo in the background, unless it is the
+    // one being rendered.
+    void want_reference(const SceneEntry& scene, int width, int height, float albedo);
     // Refuses a render whose films and snapshots would not fit in Limits::memory_mb.
     void check_memory_budget(const RunInputs& inputs) const;
 
