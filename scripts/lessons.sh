@@ -70,6 +70,9 @@ RUNS+=(
     "estimator_light|03_reflection_equation|--estimator light --sampler independent|3 light"
     "lesson4_plain|04_rendering_equation|--plain --sampler independent|4 plain (no NEE)"
     "lesson5_light_tracing|05_bidirectional|--light-tracing --sampler independent|5 light tracing alone"
+    # Lesson 6's density estimates: a fixed radius (its bias stays) and a shrinking one.
+    "lesson6_pm|06_photon_mapping|--method pm --sampler independent|6 photon mapping (fixed radius)"
+    "lesson6_ppm|06_photon_mapping|--method ppm --sampler independent|6 progressive photon mapping"
     # The lessons' default sampler: stratified, its error falls faster than 1/N on the same chart.
     "lesson4_stratified|04_rendering_equation|--sampler kronecker|4 stratified (kronecker, the default)"
 )
@@ -132,6 +135,9 @@ for entry in "${SCENES[@]}"; do
         case "$flags" in *"--sampler independent"*) ;; *) bias2="n/a (stratified)" ;; esac
         echo "lessons: $scene: $label: $(field "$dir/$name.json" spp) spp in $(field "$dir/$name.json" seconds) s, mse $(field "$dir/$name.json" mse), converged mse (bias^2) $bias2"
         why="$(list_field "$dir/$name.json" bias)"
+        # Lesson 6: the photons' radius, from the first pass to the last (the bias falls with it).
+        radius="$(json_number "$dir/$name.json" radius_reached)"
+        [ -n "$radius" ] && why="${why:+$why; }photon radius $(json_number "$dir/$name.json" radius_first) to $radius"
         bias_rows+="<tr><td>$label</td><td>$bias2</td><td>$(field "$dir/$name.json" mse)</td><td class=\"why\">${why:-unbiased here}</td></tr>"
         bias_cell["$name|$scene"]="$bias2"
         plot_lines+="'$dir/$name.csv' using 1:3 with linespoints title '$label', "
