@@ -105,13 +105,11 @@ std::vector<std::string> layer_shares(const RenderResult& r, const Model& model)
 
 }  // namespace
 
-int run_lesson(int argc, char** argv, const Lesson& lesson) {
-    CLI::App app(lesson.description, lesson.name);
-    CommonOptions o;
-    if (const std::optional<int> status = read_command_line(argc, argv, lesson, app, o))
-        return *status;
+namespace {
 
-    RunInputs in;
+// Step 2: the scene, the reference and the model, and the output folder; an exit status (2) if
+// the input is bad, said on one line naming the file, line and field.
+std::optional<int> prepare_or_refuse(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     try {
         prepare_run(o, lesson, in);
         make_output_folder(o);
@@ -127,29 +125,38 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
                      "larger than it should be? see --max-file-mb)\n";
         return 2;
     }
-    if (!o.quiet) print_run_header(lesson, o, in);
+    return std::nullopt;
+}
 
-    const RunResult run = render_run(o, in);
+// Step 4: what the render says of itself (samples left out, the layers' shares) and its error
+// against the reference, if one was given.
+std::optional<ErrorMetrics> measure(const Lesson& lesson, const CommonOptions& o,
+                                    const RunInputs& in, const RunResult& run,
+                                    std::vector<std::string>& shares) {
     const RenderResult& r = run.render;
     if (r.nan_samples + r.inf_samples > 0)
         std::cerr << lesson.name << ": warning: " << r.nan_samples << " NaN and " << r.inf_samples
                   << " infinite samples were left out of the average (" << r.nan_pixels << " and "
                   << r.inf_pixels << " pixels)\n";
-
-    const std::vector<std::string> shares = layer_shares(r, *in.model);
+    shares = layer_shares(r, *in.model);
     if (!o.quiet)
         for (const std::string& line : shares) std::cerr << "  " << line << "\n";
-    std::optional<ErrorMetrics> error;
-    if (!o.reference.empty()) {
-        error = compare_images(r.image, in.reference);
-        if (!o.quiet)
-            std::fprintf(stderr, "%s: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
-                         lesson.name.c_str(), o.reference.c_str(), error->mse, error->rmse,
-                         error->relmse, error->mae);
-    }
+    if (o.reference.empty()) return std::nullopt;
+    const ErrorMetrics error = compare_images(r.image, in.reference);
+    if (!o.quiet)
+        std::fprintf(stderr, "%s: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
+                     lesson.name.c_str(), o.reference.c_str(), error.mse, error.rmse,
+                     error.relmse, error.mae);
+    return error;
+}
 
+// Step 5: the images and the report; the exit status (0, 130 if interrupted, 1 if a file could
+// not be written).
+int write_outputs(const Lesson& lesson, const CommonOptions& o, const RunInputs& in,
+                  const RunResult& run, const std::optional<ErrorMetrics>& error,
+                  const std::vector<std::string>& shares) {
     int status = 0;
-    if (r.interrupted) {
+    if (run.render.interrupted) {
         std::cerr << lesson.name << ": interrupted after " << run.spp_taken
                   << " complete samples per pixel; writing what was rendered\n";
         status = 130;  // 128 + SIGINT, as a shell reports an interrupted command
@@ -168,10 +175,34 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
             status = 1;
         }
     }
+    return status;
+}
+
+}  // namespace
+
+int run_lesson(int argc, char** argv, const Lesson& lesson) {
+    CLI::App app(lesson.description, lesson.name);
+    CommonOptions o;
+    if (const std::optional<int> status = read_command_line(argc, argv, lesson, app, o))
+        return *status;
+    RunInputs in;
+    if (const std::optional<int> status = prepare_or_refuse(o, lesson, in)) return *status;
+    if (!o.quiet) print_run_header(lesson, o, in);
+
+    RunResult run;
+    try {
+        run = render_run(o, in);
+    } catch (const InputError& e) {  // a pass that cannot be made (lesson 6: over its cap)
+        std::cerr << lesson.name << ": error: " << e.what() << "\n";
+        return 2;
+    }
+    std::vector<std::string> shares;
+    const std::optional<ErrorMetrics> error = measure(lesson, o, in, run, shares);
+    const int status = write_outputs(lesson, o, in, run, error, shares);
     if (!o.quiet && status == 0)
         std::fprintf(stderr, "%s: wrote %s.exr and %s.png in %.2f s (%.2f Mrays/s)\n",
-                     lesson.name.c_str(), o.out.c_str(), o.out.c_str(), r.stats.seconds,
-                     mrays_per_second(r.stats));
+                     lesson.name.c_str(), o.out.c_str(), o.out.c_str(), run.render.stats.seconds,
+                     mrays_per_second(run.render.stats));
     return status;
 }
 

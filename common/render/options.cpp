@@ -14,7 +14,9 @@ namespace lessons {
 
 namespace {
 
-void add_common_options(CLI::App& app, CommonOptions& o) {
+// What to render and where to write it: the scene, the output, the samples and their part, the
+// image's size, threads, seed, report, exposure, progress.
+void add_output_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--scene", o.scene, "Scene file (TOML), see docs/scene-format.md")
         ->capture_default_str();
     app.add_option("--out", o.out,
@@ -45,6 +47,10 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
         ->check(CLI::Range(-30.0, 30.0))
         ->capture_default_str();
     app.add_flag("--quiet", o.quiet, "No progress output");
+}
+
+// Speed against error: the reference, the time budget, the convergence CSV, the variance image.
+void add_measuring_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--reference", o.reference,
                    "An EXR of the same size to measure the error against: mse, rmse, relmse, mae "
                    "(printed and reported), and efficiency 1 / (mse x seconds)");
@@ -58,6 +64,10 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--variance", o.variance,
                    "Write the per-pixel sample variance of the mean as PREFIX.exr (it measures the "
                    "error of the mean only for independent samples: --sampler independent)");
+}
+
+// What changes the image itself: the naive methods, the sampler, the furnace's albedo, the clamp.
+void add_image_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--naive", o.naive,
                    "Use the naive methods the suite replaces, to see them fail: epsilon=E (a "
                    "fixed ray offset), quadratic (textbook sphere test in float), "
@@ -78,6 +88,14 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "Make every diffuse reflectance (diffuse and glossy materials) this grey, in "
                    "[0, 1]: the furnace demo's ratio of the series L = E + KE + K^2E + ...")
         ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--clamp", o.clamp,
+                   "Clamp each sample's luminance to this value (removes fireflies; biased, and "
+                   "the report says so)")
+        ->check(CLI::PositiveNumber);
+}
+
+// The input's limits.
+void add_limit_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--max-scene-mb", o.limits.scene_mb,
                    "Largest scene file read, in MiB (a scene is text; meshes are other files)")
         ->check(CLI::PositiveNumber)
@@ -86,10 +104,13 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                    "Largest file a scene may name (OBJ mesh, texture, environment map), in MiB")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--clamp", o.clamp,
-                   "Clamp each sample's luminance to this value (removes fireflies; biased, and "
-                   "the report says so)")
-        ->check(CLI::PositiveNumber);
+}
+
+void add_common_options(CLI::App& app, CommonOptions& o) {
+    add_output_options(app, o);
+    add_measuring_options(app, o);
+    add_image_options(app, o);
+    add_limit_options(app, o);
 }
 
 // "A:B" with 0 <= A < B <= limit, or throws naming `flag`.
