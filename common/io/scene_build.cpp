@@ -289,42 +289,45 @@ std::array<Quad, 6> box_faces(const ShapeDescription& b) {
     };
 }
 
-Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
-    Scene scene;
-    scene.source = d.file;
-    scene.notes = d.notes;
-    scene.input_files = d.files_read;
-    scene.width = options.width > 0 ? options.width : d.width;
-    scene.height = options.height > 0 ? options.height : d.height;
-    scene.background = d.background;
-    if (!d.background_map.empty()) read_environment_map(d, options.limits, scene);
-    scene.camera = Camera(d.camera_position, d.camera_look_at, d.camera_up, d.camera_fov,
-                          static_cast<float>(scene.width) / static_cast<float>(scene.height));
+namespace {
 
-    std::map<std::string, uint32_t> material_ids;
-    std::vector<std::string> material_names;
-    TextureCache textures;
-    for (const MaterialDescription& m : d.materials) {
-        Material material = m.material;
-        read_albedo_texture(material, m.albedo_where, options.limits, textures, scene);
-        material_ids[m.material.name] = scene.add_material(material);
-        material_names.push_back(m.material.name);
-    }
-    auto resolve = [&](const ShapeDescription& s) -> int {
+// The scene's materials, each with its texture read, by name for the shapes to find.
+struct Materials {
+    std::map<std::string, uint32_t> ids;
+    std::vector<std::string> names;
+
+    // The index of shape s's material; -1 for none (a glTF or OBJ file brings its own); throws
+    // InputError for a name the scene does not define, with the nearest one it does.
+    int resolve(const ShapeDescription& s) const {
         if (s.material.empty()) return -1;
-        auto it = material_ids.find(s.material);
-        if (it != material_ids.end()) return static_cast<int>(it->second);
-        std::string message =
-            "undefined material '" + s.material + "'" + did_you_mean(s.material, material_names);
-        if (material_names.empty()) message += " (the scene defines no [materials.*])";
+        const auto it = ids.find(s.material);
+        if (it != ids.end()) return static_cast<int>(it->second);
+        std::string message = "undefined material '" + s.material + "'" +
+                              did_you_mean(s.material, names);
+        if (names.empty()) message += " (the scene defines no [materials.*])";
         throw InputError(s.material_where.file, s.material_where.line, s.material_where.field,
                          message);
-    };
+    }
+};
 
+Materials add_materials(const SceneDescription& d, const InputLimits& limits,
+                        TextureCache& textures, Scene& scene) {
+    Materials materials;
+    for (const MaterialDescription& m : d.materials) {
+        Material material = m.material;
+        read_albedo_texture(material, m.albedo_where, limits, textures, scene);
+        materials.ids[m.material.name] = scene.add_material(material);
+        materials.names.push_back(m.material.name);
+    }
+    return materials;
+}
+
+void add_shapes(const SceneDescription& d, const Materials& materials, const InputLimits& limits,
+                TextureCache& textures, Scene& scene) {
     MeshCache meshes;
     GltfCache gltfs;
     for (const ShapeDescription& s : d.shapes) {
-        const int material = resolve(s);
+        const int material = materials.resolve(s);
         switch (s.type) {
             case ShapeDescription::Type::Sphere:
                 scene.add_sphere({s.center, s.radius}, static_cast<uint32_t>(material));
@@ -340,22 +343,43 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                 if (s.file.empty())
                     add_polygon_mesh(scene, s, static_cast<uint32_t>(material));
                 else
-                    add_obj_mesh(scene, s, material_ids, material, options.limits, meshes,
-                                 textures);
+                    add_obj_mesh(scene, s, materials.ids, material, limits, meshes, textures);
                 break;
             case ShapeDescription::Type::Gltf:
-                add_gltf(scene, s, material, options.limits, gltfs, textures);
+                add_gltf(scene, s, material, limits, gltfs, textures);
                 break;
         }
     }
-    for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
-    // A camera inside a closed shape sees only its inside. That can be meant (the furnace), so
-    // it is a warning, not an error.
+}
+
+// A camera inside a closed shape sees only its inside. That can be meant (the furnace), so it is
+// a warning, not an error.
+void warn_of_a_camera_inside(const SceneDescription& d) {
     for (const ShapeDescription& s : d.shapes)
         if (s.type == ShapeDescription::Type::Sphere &&
             glm::length(d.camera_position - s.center) < s.radius)
             std::cerr << "warning: " << s.where.file << ":" << s.where.line << ": " << s.where.field
                       << ": the camera is inside this sphere; the image shows its inside\n";
+}
+
+}  // namespace
+
+Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
+    Scene scene;
+    scene.source = d.file;
+    scene.notes = d.notes;
+    scene.input_files = d.files_read;
+    scene.width = options.width > 0 ? options.width : d.width;
+    scene.height = options.height > 0 ? options.height : d.height;
+    scene.background = d.background;
+    if (!d.background_map.empty()) read_environment_map(d, options.limits, scene);
+    scene.camera = Camera(d.camera_position, d.camera_look_at, d.camera_up, d.camera_fov,
+                          static_cast<float>(scene.width) / static_cast<float>(scene.height));
+    TextureCache textures;
+    const Materials materials = add_materials(d, options.limits, textures, scene);
+    add_shapes(d, materials, options.limits, textures, scene);
+    for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
+    warn_of_a_camera_inside(d);
     scene.commit(options.threads);
     return scene;
 }
