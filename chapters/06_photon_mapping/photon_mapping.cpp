@@ -57,47 +57,53 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
         layer_names = joins(m) ? std::vector<std::string>{"connection", "merging", "light_tracing"}
                                : std::vector<std::string>{"direct", "photons"};
     if (m == PhotonMethod::Bidirectional) {
-        notes.push_back(
-            "method bpt: lesson 5's bidirectional path tracing (vertex connection without "
-            "merging): the same image, bit for bit");
-    } else if (m == PhotonMethod::VertexMerging) {
-        notes.push_back("method vcm: lesson 5's strategies and a merge at every diffuse camera "
-                        "vertex, all weighted by MIS (power heuristic), radius " +
-                        number(r1_) + " shrinking as k^" + number((alpha_ - 1.0f) / 2.0f));
-    } else {
-        notes.push_back(std::string("method ") + photon_method_name(m) +
-                        ": photons at the first diffuse camera vertex, direct light by a light "
-                        "sample there; radius " + number(r1_) +
-                        (m == PhotonMethod::PhotonMapping
-                             ? " (fixed)"
-                             : " shrinking as k^" + number((alpha_ - 1.0f) / 2.0f)));
+        // Lesson 5's model says what it ignores and misses here: the same words, the same image.
+        const BidirectionalModel lesson5(scene, options.paths);
+        notes = lesson5.notes;
+        biased_because = lesson5.biased_because;
+        notes.insert(notes.begin(),
+                     "method bpt: lesson 5's bidirectional path tracing (vertex connection "
+                     "without merging): the same image, bit for bit");
+        return;
     }
-    if (uses_photons(m))
-        notes.push_back(std::string("kernel ") + kernel_name(options.kernel) + "; " +
-                        std::to_string(scene.width * scene.height) +
-                        " light subpaths per pass leave the photons");
-    const SceneContents contents = scene.contents();
-    if (m == PhotonMethod::PhotonMapping)
+    const bool fixed = alpha_ >= 1.0f;
+    const std::string radius =
+        "radius " + number(r1_) +
+        (fixed ? " (fixed)" : " shrinking as (k + 1)^" + number((alpha_ - 1.0f) / 2.0f));
+    notes.push_back(m == PhotonMethod::VertexMerging
+                        ? "method vcm: lesson 5's strategies and a merge at every diffuse camera "
+                          "vertex, all weighted by MIS (power heuristic); " + radius
+                        : std::string("method ") + photon_method_name(m) +
+                              ": the photons at the first diffuse camera vertex, direct light by "
+                              "a light sample there; " + radius);
+    notes.push_back(std::string("kernel ") + kernel_name(options.kernel) + "; " +
+                    std::to_string(scene.width * scene.height) +
+                    " light subpaths per pass leave the photons");
+    if (fixed)
         biased_because.push_back("a fixed radius " + number(r1_) +
                                  ": the photons' light is blurred over it however long it renders "
-                                 "(--method ppm or vcm shrink it)");
-    else if (uses_photons(m))
+                                 "(--alpha below 1 shrinks it)");
+    else
         notes.push_back("biased but consistent: the photons' blur shrinks with the radius, "
                         "and with it the bias");
-    if (uses_photons(m) && contents.environment)
-        (m == PhotonMethod::VertexMerging ? notes : biased_because)
-            .push_back(m == PhotonMethod::VertexMerging
-                           ? "the sky leaves no photons: its light is found by the joins (camera "
-                             "paths escaping, light samples), as in lesson 5"
-                           : "the sky leaves no photons: its light after a bounce is missing (only "
-                             "the light sample at the first diffuse vertex sees it)");
+    const SceneContents contents = scene.contents();
+    const bool joined = m == PhotonMethod::VertexMerging;
+    if (contents.environment)
+        (joined ? notes : biased_because)
+            .push_back(joined ? "the sky leaves no photons: its light is found by the joins "
+                                "(camera paths escaping, light samples), as in lesson 5"
+                              : "the sky leaves no photons: its light after a bounce is missing "
+                                "(only the light sample at the first diffuse vertex sees it)");
     if (contents.point_lights && contents.delta_materials)
-        notes.push_back(
-            "a point light seen in a mirror or through glass (a delta light, a delta BSDF and "
-            "the pinhole) is a path no estimator can make: it is missing, in every lesson");
-    if (!uses_photons(m) || m == PhotonMethod::VertexMerging) {
-        add_path_length_notes(*this, options.paths.max_depth, options.paths.roulette_after);
-    }
+        biased_because.push_back(
+            "a point light seen in a mirror or through glass is missing: a delta light, a delta "
+            "BSDF and the pinhole make a path no estimator can (its caustics, seen any way, are "
+            "the photons')");
+    if (contents.point_light_in_view && !joined)
+        biased_because.push_back(
+            "a point light in view is missing: no camera ray hits a point, and photon mapping "
+            "does not join the light to the camera (vcm and bpt do)");
+    add_path_length_notes(*this, options.paths.max_depth, options.paths.roulette_after);
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }
 
@@ -109,15 +115,18 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     pass = PhotonPass{};  // the last pass's memory back first
     pass.index = k;
     pass.radius = pass_radius(r1_, alpha_, k);
+    // Merging weighs each photon by its light subpath's densities; photon mapping needs none.
     pass.paths = trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
-                               options_.paths.roulette_after, settings.threads);
+                               options_.paths.roulette_after, settings.threads,
+                               options_.method == PhotonMethod::VertexMerging);
     rays_ += pass.paths.rays;
     pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
     const size_t bytes = pass.bytes();
     if (bytes > options_.max_photon_mb * 1048576.0)
         throw InputError("command line", 0, "--max-photon-mb",
                          "the photons of pass " + std::to_string(k) + " take " +
-                             std::to_string(bytes >> 20) + " MiB, over the cap of " +
+                             number(static_cast<double>(bytes) / 1048576.0) +
+                             " MiB, over the cap of " +
                              number(options_.max_photon_mb) +
                              " MiB (a smaller image, a shorter --max-depth, or a larger cap)");
     most_bytes_ = std::max(most_bytes_, bytes);

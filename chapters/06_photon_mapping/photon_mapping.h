@@ -14,8 +14,8 @@
 //        sample) and all the light that has bounced at least once by the photons; a fixed
 //        radius, so the image converges to the blurred answer (biased);
 //   ppm  progressive photon mapping in the probabilistic form of Knaus and Zwicker (2011): pass
-//        k (the k-th sample of every pixel) is an independent photon-mapping estimate with
-//        radius r_k = r_1 k^((alpha - 1) / 2), 0 < alpha < 1; the film's average over the passes
+//        k = 1, 2, ... (sample index k - 1 of every pixel) is an independent photon-mapping
+//        estimate with radius r_k = r_1 k^((alpha - 1) / 2), 0 < alpha < 1; the film's average over the passes
 //        has a bias and a variance that both vanish (consistent);
 //   vcm  vertex connection and merging (Georgiev et al. 2012; Hachisuka et al. 2012): every
 //        strategy of lesson 5 and a merge at every diffuse vertex of the camera path, each

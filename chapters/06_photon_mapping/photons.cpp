@@ -36,7 +36,7 @@ Photon photon_at(const Vertex& v, uint32_t path, uint32_t vertex) {
 }  // namespace
 
 LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
-                         int roulette_after, int threads) {
+                         int roulette_after, int threads, bool keep_vertices) {
     const size_t n = count > 0 ? static_cast<size_t>(count) : 0;
     // One part per thread, each a contiguous range of subpaths with arrays of its own.
     std::vector<LightPaths> parts(static_cast<size_t>(part_count(n, threads, 256)));
@@ -52,7 +52,7 @@ LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count
                 if (leaves_photon(path[i]))
                     out.photons.push_back(
                         photon_at(path[i], static_cast<uint32_t>(j), static_cast<uint32_t>(i)));
-            out.vertices.insert(out.vertices.end(), path.begin(), path.end());
+            if (keep_vertices) out.vertices.insert(out.vertices.end(), path.begin(), path.end());
         }
         out.rays = rays_traced_by_this_thread() - rays_before;
     });

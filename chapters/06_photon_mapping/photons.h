@@ -57,7 +57,9 @@ inline constexpr uint64_t kPhotonSeed = 0x70686f746f6e73ULL;
 // bounces, < 0 never). Traced on `threads` threads (0: every hardware thread), each a contiguous
 // range of subpaths, the ranges concatenated in order: as every subpath's random numbers depend
 // on its index alone, the result is the same bits for any number of threads.
+// With keep_vertices false, only the photons are kept (LightPaths::vertices stays empty, and
+// vertex_of may not be asked): photon mapping reads nothing else.
 LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
-                         int roulette_after, int threads = 0);
+                         int roulette_after, int threads = 0, bool keep_vertices = true);
 
 }  // namespace lessons

@@ -44,7 +44,8 @@ check_lesson() {
     mkdir -p "$dir"
     "${run[@]}" --spp $SPP --out "$dir/single"
     local splits=(samples)
-    if [ "$lesson" != 05_bidirectional ]; then splits+=(tiles both); fi
+    # Lessons 5 and 6 render whole passes over the image (splats, photons): by samples only.
+    case "$lesson" in 05_* | 06_*) ;; *) splits+=(tiles both) ;; esac
     for split in "${splits[@]}"; do
         local parts=()
         case $split in
@@ -85,6 +86,8 @@ merge)
     check_lesson 04_rendering_equation l4i --scene scenes/cornell_box.toml --sampler independent \
         --clamp 4
     check_lesson 05_bidirectional l5 --scene scenes/cornell_spheres.toml --strategies 2
+    check_lesson 06_photon_mapping l6 --scene scenes/cornell_spheres.toml --techniques
+    check_lesson 06_photon_mapping l6p --scene scenes/cornell_spheres.toml --method ppm
     ;;
 
 refusals)
