@@ -97,6 +97,38 @@ Color light_side_scattering(const Bidir& b, const Vertex& v, const Vec3& w) {
 
 namespace {
 
+// The vertex a camera subpath ends on when its ray escapes into a sky: the direction, with the
+// density per steradian the previous vertex sampled it with (a vertex at infinity has no area).
+Vertex sky_vertex(const Bidir& b, const Ray& ray, const Color& beta, float pdf_dir,
+                  const Vertex& previous) {
+    Vertex sky;
+    sky.type = VertexType::Light;
+    sky.infinite = true;
+    sky.p = ray.dir;
+    sky.beta = beta;
+    sky.pdf_fwd = pdf_dir;
+    sky.pdf_light_sample = light_sample_density(b, sky, previous);
+    return sky;
+}
+
+// The vertex where `ray`, sent from `previous` with solid-angle density pdf_dir, hits the scene:
+// its hit, BSDF, throughput and density per unit area; on a camera subpath, an emitter also
+// keeps the density with which a light sample at `previous` would have picked it.
+Vertex surface_vertex(const Bidir& b, const Ray& ray, const Hit& hit, const Color& beta,
+                      float pdf_dir, const Vertex& previous, Transport transport) {
+    Vertex v;
+    v.si = b.scene.interaction(ray, hit);
+    v.p = v.si.p;
+    v.n = v.si.n_geo;
+    v.bsdf.emplace(b.scene.material(v.si.material), v.si);
+    v.beta = beta;
+    v.pdf_fwd = to_area_density(pdf_dir, previous, v);
+    if (transport == Transport::Radiance && previous.type == VertexType::Surface &&
+        b.scene.material(v.si.material).is_emissive())
+        v.pdf_light_sample = light_sample_density(b, v, previous);
+    return v;
+}
+
 // Extends a subpath whose last vertex sent `ray` with solid-angle density pdf_dir and
 // throughput beta: lesson 4's loop, keeping every vertex and both of its densities. Light
 // subpaths carry importance through glass (Transport::Importance) and the shading-normal
@@ -110,29 +142,11 @@ void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_
         const std::optional<Hit> hit = b.scene.intersect(ray);
         if (!hit) {
             // The camera path escapes: a last vertex at the sky, if there is one.
-            if (transport == Transport::Radiance && b.scene.has_environment()) {
-                Vertex sky;
-                sky.type = VertexType::Light;
-                sky.infinite = true;
-                sky.p = ray.dir;
-                sky.beta = beta;
-                sky.pdf_fwd = pdf_dir;  // per steradian: a vertex at infinity has no area
-                sky.pdf_light_sample = light_sample_density(b, sky, path.back());
-                path.push_back(sky);
-            }
+            if (transport == Transport::Radiance && b.scene.has_environment())
+                path.push_back(sky_vertex(b, ray, beta, pdf_dir, path.back()));
             return;
         }
-        Vertex v;
-        v.si = b.scene.interaction(ray, *hit);
-        v.p = v.si.p;
-        v.n = v.si.n_geo;
-        v.bsdf.emplace(b.scene.material(v.si.material), v.si);
-        v.beta = beta;
-        v.pdf_fwd = to_area_density(pdf_dir, path.back(), v);
-        if (transport == Transport::Radiance && path.back().type == VertexType::Surface &&
-            b.scene.material(v.si.material).is_emissive())
-            v.pdf_light_sample = light_sample_density(b, v, path.back());
-        path.push_back(v);
+        path.push_back(surface_vertex(b, ray, *hit, beta, pdf_dir, path.back(), transport));
         Vertex& here = path.back();
         Vertex& before = path[path.size() - 2];
         if (static_cast<int>(path.size()) >= max_vertices) return;

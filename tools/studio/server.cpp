@@ -195,12 +195,8 @@ struct ServerOptions {
 };
 
 // Reads the command line into `o`; an exit status if the studio stops here (--help: 0, bad: 2).
-std::optional<int> read_options(int argc, char** argv, ServerOptions& o) {
-    CLI::App app(
-        "studio: the lessons rendering live in a browser, two side by side, with the error "
-        "against a reference as they converge (docs/studio.md)",
-        "studio");
-    std::vector<std::string> scene_dirs;
+// The studio's flags, each bound to its place in `o` (the scene folders to `scene_dirs`).
+void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& scene_dirs) {
     app.add_option("--port", o.port, "TCP port (0: any free port; the address is printed)")
         ->check(CLI::Range(0, 65535))
         ->capture_default_str();
@@ -234,6 +230,34 @@ std::optional<int> read_options(int argc, char** argv, ServerOptions& o) {
                    "Samples per pixel of a reference the studio renders itself")
         ->check(CLI::Range(1, 1 << 20))
         ->capture_default_str();
+}
+
+// The scene folders the page may choose from, each labelled by its own name; false (said on
+// stderr) for one that is not a folder.
+bool read_scene_folders(std::vector<std::string> scene_dirs, ServerOptions& o) {
+    if (scene_dirs.empty())
+        scene_dirs = {LESSONS_SOURCE_DIR "/scenes", LESSONS_SOURCE_DIR "/scenes/hard"};
+    for (const std::string& dir : scene_dirs) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec)) {
+            std::cerr << "studio: error: command line: --scenes: '" << dir << "' is not a folder\n";
+            return false;
+        }
+        // The folder's own name labels its scenes ("scenes/cornell_box", "hard/cornell_tiny").
+        std::filesystem::path name = std::filesystem::path(dir).lexically_normal();
+        if (name.filename().empty()) name = name.parent_path();
+        o.folders.emplace_back(name.filename().string(), dir);
+    }
+    return true;
+}
+
+std::optional<int> read_options(int argc, char** argv, ServerOptions& o) {
+    CLI::App app(
+        "studio: the lessons rendering live in a browser, two side by side, with the error "
+        "against a reference as they converge (docs/studio.md)",
+        "studio");
+    std::vector<std::string> scene_dirs;
+    declare_options(app, o, scene_dirs);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -242,19 +266,7 @@ std::optional<int> read_options(int argc, char** argv, ServerOptions& o) {
         std::cerr << "studio: error: command line: " << e.what() << " (see --help)\n";
         return 2;
     }
-    if (scene_dirs.empty())
-        scene_dirs = {LESSONS_SOURCE_DIR "/scenes", LESSONS_SOURCE_DIR "/scenes/hard"};
-    for (const std::string& dir : scene_dirs) {
-        std::error_code ec;
-        if (!std::filesystem::is_directory(dir, ec)) {
-            std::cerr << "studio: error: command line: --scenes: '" << dir << "' is not a folder\n";
-            return 2;
-        }
-        // The folder's own name labels its scenes ("scenes/cornell_box", "hard/cornell_tiny").
-        std::filesystem::path name = std::filesystem::path(dir).lexically_normal();
-        if (name.filename().empty()) name = name.parent_path();
-        o.folders.emplace_back(name.filename().string(), dir);
-    }
+    if (!read_scene_folders(scene_dirs, o)) return 2;
     if (!std::filesystem::is_regular_file(o.page + "/index.html")) {
         std::cerr << "studio: error: command line: --page: no index.html in '" << o.page << "'\n";
         return 2;
