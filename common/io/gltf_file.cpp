@@ -65,9 +65,8 @@ std::string expand_path(const std::string& joined, void* user) {
 bool read_capped(std::vector<unsigned char>* out, std::string* err, const std::string& path,
                  void* user) {
     try {
-        const std::string bytes = read_input_file(path, "file a glTF names",
-                                                  static_cast<ReadLimits*>(user)->max_bytes,
-                                                  "--max-file-mb");
+        const std::string bytes = read_input_file(
+            path, "file a glTF names", static_cast<ReadLimits*>(user)->max_bytes, "--max-file-mb");
         out->assign(bytes.begin(), bytes.end());
         return true;
     } catch (const InputError& e) {
@@ -90,9 +89,12 @@ void check_json_depth(const std::string& path, const std::string& bytes, size_t 
     for (size_t i = begin; i < end && i < bytes.size(); ++i) {
         const char c = bytes[i];
         if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                in_string = false;
         } else if (c == '"') {
             in_string = true;
         } else if (c == '[' || c == '{') {
@@ -116,8 +118,7 @@ void check_depth_of_file(const std::string& path, const std::string& bytes) {
 
 // The model tinygltf makes of the file's bytes (.glb by its extension, else JSON text), every
 // file it names read through the capped callbacks above.
-tinygltf::Model parse_model(const std::string& path, const std::string& bytes,
-                            uint64_t max_bytes) {
+tinygltf::Model parse_model(const std::string& path, const std::string& bytes, uint64_t max_bytes) {
     tinygltf::TinyGLTF loader;
     const std::string ext = std::filesystem::path(path).extension().string();
     const std::string base = std::filesystem::path(path).parent_path().string();
@@ -129,12 +130,11 @@ tinygltf::Model parse_model(const std::string& path, const std::string& bytes,
     tinygltf::Model model;
     std::string err, warn;
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
-    const bool ok =
-        ext == ".glb" || ext == ".GLB"
-            ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
-                                          static_cast<unsigned int>(bytes.size()), base)
-            : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                         static_cast<unsigned int>(bytes.size()), base);
+    const bool ok = ext == ".glb" || ext == ".GLB"
+                        ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
+                                                      static_cast<unsigned int>(bytes.size()), base)
+                        : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                                     static_cast<unsigned int>(bytes.size()), base);
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         throw InputError(path, 0, "", "cannot be read as glTF: " + (err.empty() ? warn : err));

@@ -54,8 +54,7 @@ Accessor accessor(const Reader& r, int index, const std::string& used_as, int co
     const int size = component_bytes(a.componentType);
     if (size == 0) r.fail(field, "unknown componentType " + std::to_string(a.componentType));
     if (a.sparse.isSparse) r.fail(field, "sparse accessors are not supported");
-    if (a.bufferView < 0)
-        r.fail(field, "has no bufferView (accessors of zeros are not supported)");
+    if (a.bufferView < 0) r.fail(field, "has no bufferView (accessors of zeros are not supported)");
     if (v.count == 0) return v;
     if (a.bufferView >= static_cast<int>(model.bufferViews.size()))
         r.fail(field,
@@ -71,8 +70,8 @@ Accessor accessor(const Reader& r, int index, const std::string& used_as, int co
     if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
         r.fail(view_field, "bytes " + std::to_string(view.byteOffset) + " + " +
                                std::to_string(view.byteLength) + " reach past the end of buffer " +
-                               std::to_string(view.buffer) + " (" +
-                               std::to_string(buffer.size()) + " bytes): truncated?");
+                               std::to_string(view.buffer) + " (" + std::to_string(buffer.size()) +
+                               " bytes): truncated?");
     if (v.count > 0) {
         // The last element's end, in the view, without overflow.
         const double end = static_cast<double>(a.byteOffset) +
@@ -143,10 +142,9 @@ int surface_mode(const Reader& r, const tinygltf::Primitive& p, const std::strin
     if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
         mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         static const char* const names[] = {"points", "lines", "a line loop", "a line strip"};
-        r.fail(field + ".mode", std::string("is ") +
-                                    (mode >= 0 && mode < 4 ? names[mode] : "unknown") + " (" +
-                                    std::to_string(mode) +
-                                    "): only triangles, strips and fans are surfaces");
+        r.fail(field + ".mode",
+               std::string("is ") + (mode >= 0 && mode < 4 ? names[mode] : "unknown") + " (" +
+                   std::to_string(mode) + "): only triangles, strips and fans are surfaces");
     }
     return mode;
 }
@@ -265,8 +263,7 @@ void add_triangles(int mode, const std::vector<uint32_t>& indices, GltfPrimitive
             i % 2 == 0 ? add(indices[i], indices[i + 1], indices[i + 2])
                        : add(indices[i + 1], indices[i], indices[i + 2]);
     } else {
-        for (size_t i = 1; i + 1 < indices.size(); ++i)
-            add(indices[0], indices[i], indices[i + 1]);
+        for (size_t i = 1; i + 1 < indices.size(); ++i) add(indices[0], indices[i], indices[i + 1]);
     }
 }
 

@@ -47,7 +47,7 @@ struct Walk {
     int degenerate = 0;
     int default_material = -1;
     std::map<std::pair<int, size_t>, GltfPrimitive> read;  // (mesh, primitive): read once
-    uint64_t vertices = 0;  // placed, over every instance
+    uint64_t vertices = 0;                                 // placed, over every instance
     static constexpr uint64_t kMaxVertices = uint64_t{1} << 28;
 
     void node(int index, const glm::dmat4& parent, int depth) {
@@ -56,8 +56,9 @@ struct Walk {
         if (index < 0 || index >= static_cast<int>(m.nodes.size()))
             r.fail("nodes", "names node " + std::to_string(index) + ", which does not exist");
         if (!visited.insert(index).second || depth > 256)
-            r.fail(field, "is reached twice (or 256 levels deep): the node hierarchy must be a "
-                          "forest of trees, each node in one place");
+            r.fail(field,
+                   "is reached twice (or 256 levels deep): the node hierarchy must be a "
+                   "forest of trees, each node in one place");
         const tinygltf::Node& n = m.nodes[index];
         const glm::dmat4 world = parent * local_matrix(r, n, field);
         if (n.mesh >= 0) place_mesh(n, world, field);
@@ -80,24 +81,24 @@ struct Walk {
         const tinygltf::Mesh& mesh = m.meshes[n.mesh];
         const double det = glm::determinant(glm::dmat3(world));
         if (!(std::fabs(det) > 1e-300)) {
-            scene.notes.push_back("glTF: " + field +
-                                  " flattens its mesh (a zero scale): left out");
+            scene.notes.push_back("glTF: " + field + " flattens its mesh (a zero scale): left out");
             return;
         }
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
             auto cached = read.find({n.mesh, p});
             if (cached == read.end()) {
                 GltfPrimitive fresh;
-                fresh.where = "meshes[" + std::to_string(n.mesh) + "].primitives[" +
-                              std::to_string(p) + "]";
+                fresh.where =
+                    "meshes[" + std::to_string(n.mesh) + "].primitives[" + std::to_string(p) + "]";
                 read_primitive(r, mesh.primitives[p], fresh.where, fresh, degenerate);
                 cached = read.emplace(std::make_pair(n.mesh, p), std::move(fresh)).first;
             }
             GltfPrimitive prim = cached->second;
             vertices += prim.positions.size();
             if (vertices > kMaxVertices)
-                r.fail(field, "places more than 2^28 vertices in all (meshes placed by many "
-                              "nodes count each time)");
+                r.fail(field,
+                       "places more than 2^28 vertices in all (meshes placed by many "
+                       "nodes count each time)");
             const int mat = mesh.primitives[p].material;
             if (mat >= static_cast<int>(m.materials.size()))
                 r.fail(prim.where + ".material",

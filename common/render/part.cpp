@@ -93,8 +93,7 @@ std::vector<EXRAttribute> string_attributes(const std::map<std::string, std::str
 }
 
 // tinyexr writes the image to a temporary file, which then takes the path's place.
-void write_exr_atomically(const std::string& path, const EXRImage& image,
-                          const EXRHeader& header) {
+void write_exr_atomically(const std::string& path, const EXRImage& image, const EXRHeader& header) {
     write_atomically(path, [&](const std::string& tmp) {
         // Check that the file can be created first (as write_exr does).
         if (std::FILE* f = std::fopen(tmp.c_str(), "wb"))
@@ -211,9 +210,9 @@ ChannelWords load_merge_channels(const std::string& path, LoadedExr& exr, const 
     // (When decoding fails, tinyexr 1.0.1 frees the image's channel list but not its channels:
     // they leak, in a merge that then exits: tests/lsan.supp.)
     if (LoadEXRImageFromFile(&exr.image, &exr.header, path.c_str(), &err) != TINYEXR_SUCCESS)
-        throw InputError(path, 0, "",
-                         "cannot read the part's pixels (truncated or damaged?): " +
-                             exr_error(err));
+        throw InputError(
+            path, 0, "",
+            "cannot read the part's pixels (truncated or damaged?): " + exr_error(err));
     exr.image_loaded = true;
     if (exr.image.images == nullptr || exr.image.width != h.width() ||
         exr.image.height != h.height())
@@ -255,8 +254,7 @@ PartFile read_part(const std::string& path, bool with_pixels) {
     std::map<std::string, std::string> fields;
     for (int i = 0; i < exr.header.num_custom_attributes; ++i) {
         const EXRAttribute& a = exr.header.custom_attributes[i];
-        if (std::strncmp(a.name, "lessons.", 8) != 0 || a.value == nullptr || a.size < 0)
-            continue;
+        if (std::strncmp(a.name, "lessons.", 8) != 0 || a.value == nullptr || a.size < 0) continue;
         fields[a.name] = std::string(reinterpret_cast<const char*>(a.value), a.size);
     }
     PartFile part;

@@ -15,9 +15,9 @@
 namespace lessons::part_format {
 
 // The channels of one film's FilmPixel, each a 32-bit word per pixel.
-inline constexpr const char* kFields[] = {"sumR0", "sumR1", "sumR2", "sumR3", "sumG0", "sumG1",
-                                          "sumG2", "sumG3", "sumB0", "sumB1", "sumB2", "sumB3",
-                                          "sqR0",  "sqR1",  "sqG0",  "sqG1",  "sqB0",  "sqB1",
+inline constexpr const char* kFields[] = {"sumR0", "sumR1", "sumR2", "sumR3",   "sumG0", "sumG1",
+                                          "sumG2", "sumG3", "sumB0", "sumB1",   "sumB2", "sumB3",
+                                          "sqR0",  "sqR1",  "sqG0",  "sqG1",    "sqB0",  "sqB1",
                                           "valid", "nan",   "inf",   "clamped", "maxlum"};
 inline constexpr int kFieldCount = sizeof kFields / sizeof kFields[0];
 
