@@ -1,4 +1,4 @@
-// Reading one TOML table of a scene file field by field, for the scene parser (scene_file.cpp):
+// Reading one TOML table of a scene file field by field, for the scene parser (scene_tables.h):
 // typed getters with ranges, each failure an InputError naming the file, line and field, and a
 // record of the fields used, so that anything left over (a typo, a field of another material
 // type) is refused with a suggestion.
