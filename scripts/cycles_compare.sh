@@ -11,11 +11,12 @@
 # Cycles is built by scripts/blender/toml_to_blender.py (CPU, no denoising, no adaptive
 # sampling, no clamping, a one-pixel box filter). The lesson is 05_bidirectional when the scene
 # has point lights and mirrors or glass (caustics lesson 4 cannot find), else
-# 04_rendering_equation; --lesson 4 or 5 chooses. Images are EXR in DIR (default
+# 04_rendering_equation; --lesson 4, 5 or 6 chooses (6: its default method, vertex connection
+# and merging). Images are EXR in DIR (default
 # out/cycles/SCENE_NAME/); an image that exists is not rendered again (delete it to redo it).
 # Times: DIR/times.csv (renderer,spp,seconds,file): the lesson's rendering time from its report,
 # Cycles' wall time around its render call. The report: DIR/report.csv and DIR/references.json.
-# Usage: scripts/cycles_compare.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5]
+# Usage: scripts/cycles_compare.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5|6]
 #                                  [--threads T] SCENE [SPP ...]
 #   e.g. scripts/cycles_compare.sh scenes/sky.toml 16 64; REF_SPP=64 scripts/cycles_compare.sh
 #   --width 64 --height 64 scenes/cornell_box.toml 4. Default SPP: 64.
@@ -30,7 +31,7 @@ WIDTH="" HEIGHT="" DIR="" LESSON="" THREADS=2 SCENE=""
 SPP_LIST=()
 
 usage() {
-    echo "usage: scripts/cycles_compare.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5] [--threads T] SCENE [SPP ...]" >&2
+    echo "usage: scripts/cycles_compare.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5|6] [--threads T] SCENE [SPP ...]" >&2
     exit 2
 }
 while [ $# -gt 0 ]; do
@@ -52,7 +53,7 @@ done
 for n in "$REF_SPP" "$THREADS" ${WIDTH:+"$WIDTH"} ${HEIGHT:+"$HEIGHT"} "${SPP_LIST[@]}"; do
     [[ "$n" =~ ^[1-9][0-9]*$ ]] || { echo "not a positive integer: $n" >&2; exit 2; }
 done
-case "$LESSON" in ""|4|5) ;; *) echo "--lesson must be 4 or 5" >&2; exit 2 ;; esac
+case "$LESSON" in ""|4|5|6) ;; *) echo "--lesson must be 4, 5 or 6" >&2; exit 2 ;; esac
 command -v "$BLENDER" > /dev/null || { echo "blender not found (set BLENDER)" >&2; exit 2; }
 [ -x "$BIN/scene_export" ] || { echo "$BIN/scene_export not built (cmake --build build)" >&2; exit 2; }
 
@@ -69,7 +70,8 @@ used = {t["material"] for t in s["spheres"] + s["quads"]} | set(s["mesh"]["mater
 delta = any(s["materials"][i]["type"] in ("mirror", "glass") for i in used)
 print(5 if s["point_lights"] and delta else 4)' "$JSON")"
 fi
-case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05_bidirectional" ;; esac
+case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05_bidirectional" ;;
+    6) PROGRAM="$BIN/06_photon_mapping" ;; esac
 SIZE_ARGS=()
 [ -z "$WIDTH" ] || SIZE_ARGS+=(--width "$WIDTH")
 [ -z "$HEIGHT" ] || SIZE_ARGS+=(--height "$HEIGHT")

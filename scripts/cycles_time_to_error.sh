@@ -11,7 +11,7 @@
 # error. The converged renders come from scripts/cycles_compare.sh (cached in DIR).
 # Writes DIR/time_to_error.csv (target_spp,run,renderer,seconds,wall_seconds,spp,rmse) and
 # prints medians and ranges.
-# Usage: scripts/cycles_time_to_error.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5]
+# Usage: scripts/cycles_time_to_error.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5|6]
 #                                        [--runs N] [--fraction F] SCENE [SPP ...]
 #   e.g. scripts/cycles_time_to_error.sh --lesson 4 scenes/cornell_box_rtiow.toml 64 256
 #   Defaults: 3 runs, fraction 0.5, SPP 64. Environment: REF_SPP (default 1024), BLENDER,
@@ -25,7 +25,7 @@ REF_SPP="${REF_SPP:-1024}"
 WIDTH="" HEIGHT="" DIR="" LESSON="" RUNS=3 FRACTION=0.5 SCENE=""
 SPP_LIST=()
 usage() {
-    echo "usage: scripts/cycles_time_to_error.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5] [--runs N] [--fraction F] SCENE [SPP ...]" >&2
+    echo "usage: scripts/cycles_time_to_error.sh [--width W] [--height H] [--dir DIR] [--lesson 4|5|6] [--runs N] [--fraction F] SCENE [SPP ...]" >&2
     exit 2
 }
 while [ $# -gt 0 ]; do
@@ -57,8 +57,9 @@ REF_SPP="$REF_SPP" BLENDER="$BLENDER" LESSONS_BIN="$BIN" "$ROOT/scripts/cycles_c
     ${LESSON:+--lesson "$LESSON"} ${WIDTH:+--width "$WIDTH"} ${HEIGHT:+--height "$HEIGHT"} \
     --dir "$DIR" "$SCENE" "${SPP_LIST[0]}" > "$DIR/compare.log" 2>&1 ||
     { echo "error: scripts/cycles_compare.sh failed; see $DIR/compare.log" >&2; exit 1; }
-LESSON="$(sed -n 's/.*, lesson \([45]\),.*/\1/p' "$DIR/stamp")"
+LESSON="$(sed -n 's/.*, lesson \([456]\),.*/\1/p' "$DIR/stamp")"
 case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05_bidirectional" ;;
+    6) PROGRAM="$BIN/06_photon_mapping" ;;
     *) echo "error: no lesson in $DIR/stamp" >&2; exit 1 ;; esac
 SIZE_ARGS=()
 size="$(sed -n 's/.*, size \([0-9a-z]*\)x\([0-9a-z]*\),.*/\1 \2/p' "$DIR/stamp")"
