@@ -129,7 +129,15 @@ int run_lesson(int argc, char** argv, const Lesson& lesson) {
     }
     if (!o.quiet) print_run_header(lesson, o, in);
 
-    const RunResult run = render_run(o, in);
+    // A model may still refuse while it renders (lesson 6: a pass's photons over
+    // --max-photon-mb, found when the pass is traced): bad input too, nothing written.
+    RunResult run;
+    try {
+        run = render_run(o, in);
+    } catch (const InputError& e) {
+        std::cerr << lesson.name << ": error: " << e.what() << "\n";
+        return 2;
+    }
     const RenderResult& r = run.render;
     if (r.nan_samples + r.inf_samples > 0)
         std::cerr << lesson.name << ": warning: " << r.nan_samples << " NaN and " << r.inf_samples
