@@ -117,7 +117,7 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     if (bytes > options_.max_photon_mb * 1048576.0)
         throw InputError("command line", 0, "--max-photon-mb",
                          "the photons of pass " + std::to_string(k) + " take " +
-                             std::to_string(bytes >> 20) + " MiB, over the cap of " +
+                             number(bytes / 1048576.0) + " MiB, over the cap of " +
                              number(options_.max_photon_mb) +
                              " MiB (a smaller image, a shorter --max-depth, or a larger cap)");
     most_bytes_ = std::max(most_bytes_, bytes);
