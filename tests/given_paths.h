@@ -321,7 +321,8 @@ inline FaintLamp faint_lamp_after_a_bright_light() {
 
 inline std::vector<GivenPath> paths_of_the_faint_lamp(const FaintLamp& pair) {
     const Vec3 down(0, -1, 0);
-    return {{"a faint lamp, floor", on_area_light(pair.scene, pair.faint, Vec3(0.1f, 2, 0.05f), down),
+    return {{"a faint lamp, floor",
+             on_area_light(pair.scene, pair.faint, Vec3(0.1f, 2, 0.05f), down),
              {Vec3(0.2f, 0, -0.6f)}},
             {"a faint lamp, floor, wall",
              on_area_light(pair.scene, pair.faint, Vec3(0.1f, 2, 0.05f), down),
