@@ -44,7 +44,10 @@ check_lesson() {
     mkdir -p "$dir"
     "${run[@]}" --spp $SPP --out "$dir/single"
     local splits=(samples)
-    if [ "$lesson" != 05_bidirectional ]; then splits+=(tiles both); fi
+    case $lesson in  # lessons 5 and 6 splat light anywhere: no crops
+        05_bidirectional | 06_photon_mapping) ;;
+        *) splits+=(tiles both) ;;
+    esac
     for split in "${splits[@]}"; do
         local parts=()
         case $split in
@@ -85,6 +88,9 @@ merge)
     check_lesson 04_rendering_equation l4i --scene scenes/cornell_box.toml --sampler independent \
         --clamp 4
     check_lesson 05_bidirectional l5 --scene scenes/cornell_spheres.toml --strategies 2
+    # Lesson 6: each pass's photons and radius from its sample index alone.
+    check_lesson 06_photon_mapping l6 --scene scenes/cornell_spheres.toml --method vcm --techniques
+    check_lesson 06_photon_mapping l6p --scene scenes/cornell_spheres.toml --method ppm
     ;;
 
 refusals)
