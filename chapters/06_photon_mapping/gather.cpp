@@ -43,8 +43,7 @@ Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& camera_r
             const uint32_t most = static_cast<uint32_t>(std::min(longest - segments, 1 << 30));
             pass.grid.for_each_within(si.p, [&](const Photon& p) {
                 if (p.vertex < 2 || p.vertex > most) return;
-                if (const auto term =
-                        photon_term(p, si, bsdf, si.wo, options.kernel, pass.radius))
+                if (const auto term = photon_term(p, si, bsdf, si.wo, options.kernel, pass.radius))
                     sum += *term;
             });
             photons = beta * sum / static_cast<float>(std::max(pass.paths.count, 1));

@@ -1,11 +1,12 @@
 // Lesson 6: photons, as a lesson: its flags (the method, the radius and its schedule, the
 // kernel, the technique images, the photons' memory, path length), and the model.
+#include "render/lesson.h"
+
 #include <CLI/CLI.hpp>
 
 #include "path_length_flags.h"
 #include "photon_mapping.h"
 #include "render/choice_flag.h"
-#include "render/lesson.h"
 
 namespace lessons {
 
@@ -15,12 +16,12 @@ struct PhotonFlags {
     PhotonOptions options;
 
     void bind(CLI::App& app) {
-        add_choice_flag(app, "--method", options.method,
-                        Choices<PhotonMethod>(std::begin(kPhotonMethodNames),
-                                              std::end(kPhotonMethodNames)),
-                        "pm (photon mapping, a fixed radius), ppm (progressive: the radius "
-                        "shrinks every pass), bpt (lesson 5), or vcm (vertex connection and "
-                        "merging: lesson 5's joins and the photons, weighted by MIS)");
+        add_choice_flag(
+            app, "--method", options.method,
+            Choices<PhotonMethod>(std::begin(kPhotonMethodNames), std::end(kPhotonMethodNames)),
+            "pm (photon mapping, a fixed radius), ppm (progressive: the radius "
+            "shrinks every pass), bpt (lesson 5), or vcm (vertex connection and "
+            "merging: lesson 5's joins and the photons, weighted by MIS)");
         add_path_length_flags(app, options.paths.max_depth, options.paths.roulette_after);
         app.add_option("--radius", options.radius,
                        "The photons' radius in the first pass, in scene units (0: two pixel "
@@ -32,10 +33,10 @@ struct PhotonFlags {
                        "shrinks it (0: the method's, pm 1, ppm 2/3, vcm 3/4)")
             ->check(CLI::Range(0.0, 1.0))
             ->capture_default_str();
-        add_choice_flag<Kernel>(app, "--kernel", options.kernel,
-                                {{"constant", Kernel::Constant},
-                                 {"epanechnikov", Kernel::Epanechnikov}},
-                                "The photons' weight over the disk: constant or epanechnikov");
+        add_choice_flag<Kernel>(
+            app, "--kernel", options.kernel,
+            {{"constant", Kernel::Constant}, {"epanechnikov", Kernel::Epanechnikov}},
+            "The photons' weight over the disk: constant or epanechnikov");
         app.add_flag("--techniques", options.technique_layers,
                      "Also write the light of each kind of technique as images, adding up to "
                      "the image: PREFIX_connection, PREFIX_merging and PREFIX_light_tracing "

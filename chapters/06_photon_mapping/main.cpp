@@ -5,4 +5,6 @@ namespace lessons {
 Lesson photon_mapping_lesson();  // lesson.cpp
 }
 
-int main(int argc, char** argv) { return lessons::run_lesson(argc, argv, lessons::photon_mapping_lesson()); }
+int main(int argc, char** argv) {
+    return lessons::run_lesson(argc, argv, lessons::photon_mapping_lesson());
+}

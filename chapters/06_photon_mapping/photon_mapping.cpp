@@ -32,7 +32,9 @@ float default_alpha(PhotonMethod m) {
 
 namespace {
 
-bool uses_photons(PhotonMethod m) { return m != PhotonMethod::Bidirectional; }
+bool uses_photons(PhotonMethod m) {
+    return m != PhotonMethod::Bidirectional;
+}
 bool joins(PhotonMethod m) {
     return m == PhotonMethod::Bidirectional || m == PhotonMethod::VertexMerging;
 }
@@ -72,10 +74,12 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
         (fixed ? " (fixed)" : " shrinking as (k + 1)^" + number((alpha_ - 1.0f) / 2.0f));
     notes.push_back(m == PhotonMethod::VertexMerging
                         ? "method vcm: lesson 5's strategies and a merge at every diffuse camera "
-                          "vertex, all weighted by MIS (power heuristic); " + radius
+                          "vertex, all weighted by MIS (power heuristic); " +
+                              radius
                         : std::string("method ") + photon_method_name(m) +
                               ": the photons at the first diffuse camera vertex, direct light by "
-                              "a light sample there; " + radius);
+                              "a light sample there; " +
+                              radius);
     notes.push_back(std::string("kernel ") + kernel_name(options.kernel) + "; " +
                     std::to_string(scene.width * scene.height) +
                     " light subpaths per pass leave the photons");
@@ -84,8 +88,9 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
                                  ": the photons' light is blurred over it however long it renders "
                                  "(--alpha below 1 shrinks it)");
     else
-        notes.push_back("biased but consistent: the photons' blur shrinks with the radius, "
-                        "and with it the bias");
+        notes.push_back(
+            "biased but consistent: the photons' blur shrinks with the radius, "
+            "and with it the bias");
     const SceneContents contents = scene.contents();
     const bool joined = m == PhotonMethod::VertexMerging;
     if (contents.environment)
@@ -108,12 +113,12 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
 }
 
 void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const {
-    if (!uses_photons(options_.method) || pass_.index == k) return;
-    const int longest =
-        options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
+    if (!uses_photons(options_.method) || (pass_.index == k && pass_.seed == settings.seed)) return;
+    const int longest = options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
     PhotonPass& pass = pass_;
     pass = PhotonPass{};  // the last pass's memory back first
     pass.index = k;
+    pass.seed = settings.seed;
     pass.radius = pass_radius(r1_, alpha_, k);
     // Merging weighs each photon by its light subpath's densities; photon mapping needs none.
     pass.paths = trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
@@ -126,8 +131,7 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
         throw InputError("command line", 0, "--max-photon-mb",
                          "the photons of pass " + std::to_string(k) + " take " +
                              number(static_cast<double>(bytes) / 1048576.0) +
-                             " MiB, over the cap of " +
-                             number(options_.max_photon_mb) +
+                             " MiB, over the cap of " + number(options_.max_photon_mb) +
                              " MiB (a smaller image, a shorter --max-depth, or a larger cap)");
     most_bytes_ = std::max(most_bytes_, bytes);
     photons_ += pass.paths.photons.size();

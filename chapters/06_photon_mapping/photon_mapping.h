@@ -15,8 +15,8 @@
 //        radius, so the image converges to the blurred answer (biased);
 //   ppm  progressive photon mapping in the probabilistic form of Knaus and Zwicker (2011): pass
 //        k = 1, 2, ... (sample index k - 1 of every pixel) is an independent photon-mapping
-//        estimate with radius r_k = r_1 k^((alpha - 1) / 2), 0 < alpha < 1; the film's average over the passes
-//        has a bias and a variance that both vanish (consistent);
+//        estimate with radius r_k = r_1 k^((alpha - 1) / 2), 0 < alpha < 1; the film's average over
+//        the passes has a bias and a variance that both vanish (consistent);
 //   vcm  vertex connection and merging (Georgiev et al. 2012; Hachisuka et al. 2012): every
 //        strategy of lesson 5 and a merge at every diffuse vertex of the camera path, each
 //        weighted by MIS over all of them (mis.h: a merge is strategy j's density times
@@ -52,7 +52,7 @@ const char* photon_method_name(PhotonMethod m);
 
 struct PhotonOptions {
     PhotonMethod method = PhotonMethod::VertexMerging;
-    BidirOptions paths;  // path length and Russian roulette, for both subpaths (lesson 5's)
+    BidirOptions paths;   // path length and Russian roulette, for both subpaths (lesson 5's)
     float radius = 0.0f;  // r_1, in scene units; 0: default_photon_radius (radius.h)
     float alpha = 0.0f;   // the radius's exponent; 0: the method's default (kDefaultAlpha)
     Kernel kernel = Kernel::Constant;
@@ -69,6 +69,7 @@ float default_alpha(PhotonMethod m);
 // One pass's photons: its radius, the light subpaths and their photons in a grid.
 struct PhotonPass {
     int index = -1;
+    uint64_t seed = 0;
     float radius = 0.0f;
     LightPaths paths;
     PhotonGrid grid;

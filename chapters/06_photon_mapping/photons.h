@@ -36,7 +36,7 @@ struct LightPaths {
     // The photons, in subpath order and, within one, vertex order. A photon's vertex is
     // vertices[start[photon.path] + photon.vertex].
     std::vector<Photon> photons;
-    int count = 0;  // N, the number of light subpaths traced (those that started none included)
+    int count = 0;      // N, the number of light subpaths traced (those that started none included)
     uint64_t rays = 0;  // rays traced to make them
 
     const Vertex& vertex_of(const Photon& photon) const {
