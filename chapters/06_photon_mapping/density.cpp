@@ -27,12 +27,12 @@ std::optional<Color> photon_term(const Photon& p, const SurfaceInteraction& si, 
 
 RadianceEstimate reflected_radiance(const PhotonGrid& grid, const SurfaceInteraction& si,
                                     const Bsdf& bsdf, const Vec3& wo, Kernel kernel,
-                                    int light_paths, uint32_t min_vertex) {
+                                    int light_paths, uint32_t min_vertex, uint32_t max_vertex) {
     RadianceEstimate estimate;
     if (light_paths <= 0 || bsdf.is_delta()) return estimate;  // a mirror gathers no photons
     Color sum(0.0f);
     grid.for_each_within(si.p, [&](const Photon& p) {
-        if (p.vertex < min_vertex) return;
+        if (p.vertex < min_vertex || p.vertex > max_vertex) return;
         if (const std::optional<Color> term = photon_term(p, si, bsdf, wo, kernel, grid.radius())) {
             sum += *term;
             ++estimate.photons;

@@ -50,11 +50,13 @@ struct RadianceEstimate {
 // The density estimate of the radiance reflected at x (hit `si`, its BSDF `bsdf` as the camera
 // side sees it) towards wo (unit, pointing away from the surface), from the photons of `grid`
 // within its radius, which came from `light_paths` light subpaths (N above, LightPaths::count).
-// Only photons of vertex y_i with i >= min_vertex count (photon mapping's 2: light that has
-// bounced at least once, direct light being next-event estimation's).
+// Only photons of vertex y_i with min_vertex <= i <= max_vertex count (photon mapping's 2: light
+// that has bounced at least once, direct light being next-event estimation's; max_vertex keeps
+// the paths within --max-depth).
 RadianceEstimate reflected_radiance(const PhotonGrid& grid, const SurfaceInteraction& si,
                                     const Bsdf& bsdf, const Vec3& wo, Kernel kernel,
-                                    int light_paths, uint32_t min_vertex = 1);
+                                    int light_paths, uint32_t min_vertex = 1,
+                                    uint32_t max_vertex = UINT32_MAX);
 
 // One photon's term of the estimate, K(|y_p - x|) f(wo, wi_p) beta_p |wi . n_s| / |wi . n_g|
 // (not yet divided by N), or none if it does not count at x (its side, or beyond r).

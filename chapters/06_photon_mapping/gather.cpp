@@ -39,14 +39,10 @@ Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& camera_r
                 direct += beta * light_sample_term(scene, b.lights, si, bsdf, rng, false,
                                                    MisHeuristic::Power);
             // ... and the photons of light that bounced before: (1/N) sum K f beta_p.
-            Color sum(0.0f);
             const uint32_t most = static_cast<uint32_t>(std::min(longest - segments, 1 << 30));
-            pass.grid.for_each_within(si.p, [&](const Photon& p) {
-                if (p.vertex < 2 || p.vertex > most) return;
-                if (const auto term = photon_term(p, si, bsdf, si.wo, options.kernel, pass.radius))
-                    sum += *term;
-            });
-            photons = beta * sum / static_cast<float>(std::max(pass.paths.count, 1));
+            photons = beta * reflected_radiance(pass.grid, si, bsdf, si.wo, options.kernel,
+                                                pass.paths.count, 2, most)
+                                 .L;
             break;
         }
         // A mirror or glass: on along its direction, beta *= f cos / p (lesson 4's step).

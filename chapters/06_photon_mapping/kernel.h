@@ -6,8 +6,8 @@
 // expectation is not the irradiance at x but the irradiance convolved with K: the estimate's
 // bias. Expanding E about x to second order, the kernel's first moment vanishes and its second,
 // per axis, is int K u^2 dA = r^2/4 (constant) or r^2/6 (Epanechnikov), so the bias is
-// r^2/8 or r^2/12 times the Laplacian of E, to leading order (docs/accuracy.md, "Density
-// estimation").
+// r^2/8 or r^2/12 times the Laplacian of E, to leading order (docs/06_photon_mapping.md, "The
+// kernel's bias").
 //
 // Kernels, each 0 for d >= r:
 //   Constant       K(d) = 1 / (pi r^2)                     (Jensen's photon map; SPPM)
@@ -19,6 +19,8 @@
 // asymptotic mean integrated squared error, each kernel at its best radius. Its integral:
 // 2/(pi r^2) * 2 pi int_0^r (1 - s^2/r^2) s ds = 4/r^2 (r^2/2 - r^2/4) = 1.
 #pragma once
+
+#include <utility>
 
 #include "geometry/math.h"
 
@@ -38,9 +40,13 @@ inline float kernel_weight(Kernel kind, float d2, float r) {
     return 0.0f;
 }
 
-// The kernel's name, as a report would print it.
+// The kernels by name (the --kernel flag's choices, the report's "kernel").
+inline constexpr std::pair<const char*, Kernel> kKernelNames[] = {
+    {"constant", Kernel::Constant}, {"epanechnikov", Kernel::Epanechnikov}};
 inline const char* kernel_name(Kernel kind) {
-    return kind == Kernel::Constant ? "constant" : "epanechnikov";
+    for (const auto& [name, kernel] : kKernelNames)
+        if (kernel == kind) return name;
+    return "?";
 }
 
 }  // namespace lessons

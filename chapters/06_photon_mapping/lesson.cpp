@@ -33,10 +33,9 @@ struct PhotonFlags {
                        "shrinks it (0: the method's, pm 1, ppm 2/3, vcm 3/4)")
             ->check(CLI::Range(0.0, 1.0))
             ->capture_default_str();
-        add_choice_flag<Kernel>(
-            app, "--kernel", options.kernel,
-            {{"constant", Kernel::Constant}, {"epanechnikov", Kernel::Epanechnikov}},
-            "The photons' weight over the disk: constant or epanechnikov");
+        add_choice_flag(app, "--kernel", options.kernel,
+                        Choices<Kernel>(std::begin(kKernelNames), std::end(kKernelNames)),
+                        "The photons' weight over the disk: constant or epanechnikov");
         app.add_flag("--techniques", options.technique_layers,
                      "Also write the light of each kind of technique as images, adding up to "
                      "the image: PREFIX_connection, PREFIX_merging and PREFIX_light_tracing "

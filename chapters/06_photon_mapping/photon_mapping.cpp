@@ -127,12 +127,14 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     rays_ += pass.paths.rays;
     pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
     const size_t bytes = pass.bytes();
-    if (bytes > options_.max_photon_mb * 1048576.0)
+    if (bytes > options_.max_photon_mb * 1048576.0) {
+        pass = PhotonPass{};  // nothing of a refused pass is kept, or reused
         throw InputError("command line", 0, "--max-photon-mb",
                          "the photons of pass " + std::to_string(k) + " take " +
                              number(static_cast<double>(bytes) / 1048576.0) +
                              " MiB, over the cap of " + number(options_.max_photon_mb) +
                              " MiB (a smaller image, a shorter --max-depth, or a larger cap)");
+    }
     most_bytes_ = std::max(most_bytes_, bytes);
     photons_ += pass.paths.photons.size();
     ++passes_;

@@ -98,7 +98,6 @@ public:
     uint64_t pass_rays() const override { return rays_; }
     void report(Report& report) const override;
 
-    float first_radius() const { return r1_; }
     float alpha() const { return alpha_; }
 
 private:
@@ -109,7 +108,8 @@ private:
     Bidir b_;  // refers to lights_
     PhotonOptions options_;
     float r1_ = 0.0f, alpha_ = 1.0f;
-    // The current pass's photons (begin_pass) and what the report says of the passes.
+    // The current pass's photons (begin_pass) and what the report says of the passes (summed over
+    // every render of this model: the command line makes one model per run).
     mutable PhotonPass pass_;
     mutable uint64_t rays_ = 0;
     mutable size_t most_bytes_ = 0;

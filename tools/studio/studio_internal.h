@@ -56,6 +56,8 @@ struct PaneState {
 
 // The registered lesson of that name; null if none.
 const RegisteredLesson* find_lesson(const std::string& name);
+// The lesson that renders the studio's own references: unbiased for every scene of the suite.
+inline constexpr const char* kReferenceLesson = "05_bidirectional";
 // The scene of that id among the studio's; null if none.
 const SceneEntry* find_scene(const std::vector<SceneEntry>& scenes, const std::string& id);
 // The lesson's own flags, read from its command line parser.
