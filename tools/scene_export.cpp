@@ -87,23 +87,18 @@ std::string albedo_json(const ColorTexture& t) {
 std::string material_json(const Material& m) {
     Object o;
     o.put("name", json_quote(m.name));
-    o.put("type", json_quote(material_type_name(m.type)));
-    switch (m.type) {
-        case MaterialType::Diffuse: o.put("albedo", albedo_json(m.albedo)); break;
-        case MaterialType::Glossy:
-            o.put("albedo", albedo_json(m.albedo));
-            o.put("specular", vec3(m.specular));
-            o.put("roughness", number(m.roughness));
-            break;
-        case MaterialType::Conductor:
-            o.put("specular", vec3(m.specular));
-            o.put("roughness", number(m.roughness));
-            break;
-        case MaterialType::Mirror: o.put("reflectance", vec3(m.reflectance)); break;
-        case MaterialType::Glass:
-            o.put("ior", number(m.ior));
-            o.put("transmittance", vec3(m.transmittance));
-            break;
+    const MaterialTypeFacts type = facts_of(m.type);
+    o.put("type", json_quote(type.name));
+    // The parameters its type uses (materials/material.h), in the scene format's order.
+    if (type.albedo) o.put("albedo", albedo_json(m.albedo));
+    if (type.lobe) {
+        o.put("specular", vec3(m.specular));
+        o.put("roughness", number(m.roughness));
+    }
+    if (type.reflectance) o.put("reflectance", vec3(m.reflectance));
+    if (type.dielectric) {
+        o.put("ior", number(m.ior));
+        o.put("transmittance", vec3(m.transmittance));
     }
     o.put("emission", vec3(m.emission));
     o.put("two_sided", m.two_sided ? "true" : "false");

@@ -95,15 +95,21 @@ LocalMaterial local_material(const Material& m, const Vec2& uv) {
 std::vector<std::string> local_material_notes(const Scene& scene) {
     std::vector<std::string> notes;
     for (const Material& m : scene.materials()) {
-        if (m.type == MaterialType::Mirror)
-            notes.push_back("material '" + m.name + "' (mirror): shaded as diffuse with albedo = " +
-                            "its reflectance " + rgb(m.reflectance) + "; no reflection");
-        if (m.type == MaterialType::Glass)
-            notes.push_back("material '" + m.name +
-                            "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
-                            "absorbs nothing); no refraction, no reflection");
-        if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
-            notes.push_back(glossy_as_highlight_note(m));
+        switch (m.type) {
+            case MaterialType::Diffuse: break;  // Lambert, as it is
+            case MaterialType::Glossy:
+            case MaterialType::Conductor: notes.push_back(glossy_as_highlight_note(m)); break;
+            case MaterialType::Mirror:
+                notes.push_back("material '" + m.name +
+                                "' (mirror): shaded as diffuse with albedo = its reflectance " +
+                                rgb(m.reflectance) + "; no reflection");
+                break;
+            case MaterialType::Glass:
+                notes.push_back("material '" + m.name +
+                                "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
+                                "absorbs nothing); no refraction, no reflection");
+                break;
+        }
     }
     return notes;
 }

@@ -428,10 +428,7 @@ SceneContents Scene::contents() const {
     c.point_lights = !point_lights_.empty();
     c.area_lights = !area_lights_.empty();
     c.environment = has_environment();
-    auto delta = [&](uint32_t m) {
-        return materials_[m].type == MaterialType::Mirror ||
-               materials_[m].type == MaterialType::Glass;
-    };
+    auto delta = [&](uint32_t m) { return facts_of(materials_[m].type).delta; };
     for (uint32_t m : sphere_materials_) c.delta_materials |= delta(m);
     for (uint32_t m : quad_materials_) c.delta_materials |= delta(m);
     for (const Triangle& t : triangles_) c.delta_materials |= delta(t.material);
