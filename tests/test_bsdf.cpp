@@ -2,6 +2,7 @@
 // density (chi-square), energy conservation, reciprocity (docs/accuracy.md).
 #include <gtest/gtest.h>
 
+#include "geometry/interaction.h"
 #include "materials/bsdf.h"
 #include "materials/microfacet.h"
 #include "materials/optics.h"
@@ -218,4 +219,57 @@ TEST(Bsdf, ShadingFromBehindAndNoLightThroughTheGeometricSurface) {
         glm::normalize(Vec3(1, 0, -0.1f));  // above the shading plane, below the surface
     EXPECT_EQ(bsdf.eval(wo, below), Color(0.0f));
     EXPECT_EQ(bsdf.pdf(wo, below), 0.0f);
+}
+
+TEST(MaterialTypes, FactsAgreeWithTheBsdfTheTypeMakes) {
+    // What materials/material.h says of each type (facts_of) against the BSDF the type makes,
+    // seen from 30 degrees on its front: a delta type makes a delta BSDF, a transmitting one
+    // sends some samples below the surface, and a parameter the type is said to use changes
+    // the samples (directions, values, densities) while one it is said not to use changes none.
+    SurfaceInteraction si{};
+    si.n_geo = si.n_shading = Vec3(0, 0, 1);
+    si.wo = direction_at(30.0f);
+    si.shading_fallback = false;
+    auto samples = [&](const Material& m) {
+        const Bsdf bsdf(m, si);
+        std::vector<float> all;
+        for (float ux : {0.05f, 0.3f, 0.6f, 0.95f})
+            for (float uy : {0.1f, 0.5f, 0.8f})
+                if (const auto s = bsdf.sample(si.wo, {ux, uy}))
+                    all.insert(all.end(), {s->wi.x, s->wi.y, s->wi.z, s->f.x, s->f.y, s->pdf});
+        return all;
+    };
+    for (const MaterialType type :
+         {MaterialType::Diffuse, MaterialType::Glossy, MaterialType::Conductor,
+          MaterialType::Mirror, MaterialType::Glass}) {
+        const MaterialTypeFacts facts = facts_of(type);
+        Material m;
+        m.type = type;
+        m.albedo.value = Color(0.3f, 0.2f, 0.1f);
+        m.specular = Color(0.4f, 0.5f, 0.6f);
+        m.roughness = 0.3f;
+        m.reflectance = Color(0.5f, 0.6f, 0.7f);
+        m.ior = 1.5f;
+        m.transmittance = Color(0.6f, 0.7f, 0.8f);
+        EXPECT_EQ(Bsdf(m, si).is_delta(), facts.delta) << facts.name;
+        const std::vector<float> base = samples(m);
+        ASSERT_FALSE(base.empty()) << facts.name;
+        bool below = false;
+        for (size_t k = 2; k < base.size(); k += 6) below |= base[k] < 0.0f;
+        EXPECT_EQ(below, facts.transmits) << facts.name;
+        auto changes = [&](auto change) {
+            Material other = m;
+            change(other);
+            return samples(other) != base;
+        };
+        EXPECT_EQ(changes([](Material& o) { o.albedo.value = Color(0.6f); }), facts.albedo)
+            << facts.name;
+        EXPECT_EQ(changes([](Material& o) { o.specular = Color(0.2f); }), facts.lobe) << facts.name;
+        EXPECT_EQ(changes([](Material& o) { o.roughness = 0.6f; }), facts.lobe) << facts.name;
+        EXPECT_EQ(changes([](Material& o) { o.reflectance = Color(0.9f); }), facts.reflectance)
+            << facts.name;
+        EXPECT_EQ(changes([](Material& o) { o.ior = 1.3f; }), facts.dielectric) << facts.name;
+        EXPECT_EQ(changes([](Material& o) { o.transmittance = Color(0.9f); }), facts.dielectric)
+            << facts.name;
+    }
 }

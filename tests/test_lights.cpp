@@ -168,6 +168,32 @@ TEST(Lights, OneSidedLightsAreDarkBehindAndTwoSidedAreNot) {
     }
 }
 
+TEST(Lights, TheSceneListsItsLightsPointsFirstThenAreasThenTheEnvironment) {
+    // Scene::lights(), the one list the light sampler, lesson 1, the studio and the export
+    // read: every point light, every emissive primitive, and the sky only when it is not black
+    // (set after commit() too: the list is made when asked).
+    Scene scene;
+    const uint32_t lamp = add_emitter(scene, Color(1.0f));
+    scene.add_quad(Quad(Vec3(0, 2, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)), lamp);
+    scene.add_sphere({Vec3(3, 0, 0), 0.5f}, lamp);
+    scene.add_point_light({Vec3(0, 1, 0), Color(1.0f)});
+    scene.add_point_light({Vec3(0, 3, 0), Color(0.0f)});  // black: listed, never chosen
+    scene.commit();
+    auto kinds = [&] {
+        std::string s;
+        for (const LightRef& l : scene.lights()) {
+            s += l.kind == LightKind::Point ? 'P' : l.kind == LightKind::Area ? 'A' : 'E';
+            s += std::to_string(l.index) + ' ';
+        }
+        return s;
+    };
+    EXPECT_EQ(kinds(), "P0 P1 A0 A1 ");
+    EXPECT_EQ(LightSampler(scene).size(), 3u);
+    scene.background = Color(0.2f);
+    EXPECT_EQ(kinds(), "P0 P1 A0 A1 E0 ");
+    EXPECT_EQ(LightSampler(scene).size(), 4u);
+}
+
 TEST(Lights, LightsAreChosenInProportionToTheirPower) {
     Scene scene;
     scene.add_point_light({Vec3(0, 1, 0), Color(1.0f)});

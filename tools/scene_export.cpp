@@ -19,6 +19,7 @@
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "io/input_error.h"
 #include "io/report.h"
@@ -87,23 +88,18 @@ std::string albedo_json(const ColorTexture& t) {
 std::string material_json(const Material& m) {
     Object o;
     o.put("name", json_quote(m.name));
-    o.put("type", json_quote(material_type_name(m.type)));
-    switch (m.type) {
-        case MaterialType::Diffuse: o.put("albedo", albedo_json(m.albedo)); break;
-        case MaterialType::Glossy:
-            o.put("albedo", albedo_json(m.albedo));
-            o.put("specular", vec3(m.specular));
-            o.put("roughness", number(m.roughness));
-            break;
-        case MaterialType::Conductor:
-            o.put("specular", vec3(m.specular));
-            o.put("roughness", number(m.roughness));
-            break;
-        case MaterialType::Mirror: o.put("reflectance", vec3(m.reflectance)); break;
-        case MaterialType::Glass:
-            o.put("ior", number(m.ior));
-            o.put("transmittance", vec3(m.transmittance));
-            break;
+    const MaterialTypeFacts type = facts_of(m.type);
+    o.put("type", json_quote(type.name));
+    // The parameters its type uses (materials/material.h), in the scene format's order.
+    if (type.albedo) o.put("albedo", albedo_json(m.albedo));
+    if (type.lobe) {
+        o.put("specular", vec3(m.specular));
+        o.put("roughness", number(m.roughness));
+    }
+    if (type.reflectance) o.put("reflectance", vec3(m.reflectance));
+    if (type.dielectric) {
+        o.put("ior", number(m.ior));
+        o.put("transmittance", vec3(m.transmittance));
     }
     o.put("emission", vec3(m.emission));
     o.put("two_sided", m.two_sided ? "true" : "false");
@@ -120,6 +116,28 @@ std::string array(size_t n, F f, bool lines = true) {
     }
     s += "]";
     return s;
+}
+
+// The point lights, as a JSON array: what Blender gets as lights. The other kinds are written
+// with what they are made of: an area light is a shape with an emissive material, the
+// environment is the background.
+std::string point_lights_json(const Scene& scene) {
+    std::vector<std::string> lights;
+    for (const LightRef& light : scene.lights()) {
+        switch (light.kind) {
+            case LightKind::Point: {
+                const PointLight& l = scene.point_lights()[light.index];
+                Object o;
+                o.put("position", vec3(l.position));
+                o.put("intensity", vec3(l.intensity));
+                lights.push_back(o.str());
+                break;
+            }
+            case LightKind::Area: break;         // its shapes and material
+            case LightKind::Environment: break;  // "background"
+        }
+    }
+    return array(lights.size(), [&](size_t i) { return lights[i]; });
 }
 
 std::string export_scene(const SceneDescription& d, const Scene& scene) {
@@ -179,12 +197,7 @@ std::string export_scene(const SceneDescription& d, const Scene& scene) {
     mesh.put("materials", array(tris.size(), [&](size_t i) { return std::to_string(tris[i].material); }, false));
     mesh.put("smooth", array(tris.size(), [&](size_t i) { return std::string(tris[i].smooth ? "1" : "0"); }, false));
     o.put("mesh", mesh.str());
-    o.put("point_lights", array(scene.point_lights().size(), [&](size_t i) {
-        Object p;
-        p.put("position", vec3(scene.point_lights()[i].position));
-        p.put("intensity", vec3(scene.point_lights()[i].intensity));
-        return p.str();
-    }));
+    o.put("point_lights", point_lights_json(scene));
     o.put("notes", array(scene.notes.size(), [&](size_t i) { return json_quote(scene.notes[i]); }));
     return o.str() + "\n";
 }

@@ -1,6 +1,7 @@
 // Lesson 1: ray casting (see ray_casting.h for the model's equation).
 #include "ray_casting.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -39,6 +40,27 @@ PointSource as_point_source(const AreaLight& light, const Scene& scene, const Ve
     s.intensity = light.radiance * (light.area * facing);
     s.shadow_target = {light.center, light.center_error, light.normal};
     return s;
+}
+
+// A light of the scene as lesson 1 sees it from the shading point si, a point source; none for the
+// environment, which lights surfaces only through the ambient term, and none for the emitter si
+// lies on, which does not light itself.
+std::optional<PointSource> point_source(const Scene& scene, LightRef light,
+                                        const SurfaceInteraction& si) {
+    switch (light.kind) {
+        case LightKind::Point: {
+            const PointLight& l = scene.point_lights()[light.index];
+            return PointSource{
+                l.position, l.intensity, {l.position, Vec3(0.0f), Vec3(0.0f)}, std::nullopt};
+        }
+        case LightKind::Area: {
+            const AreaLight& l = scene.area_lights()[light.index];
+            if (l.prim == si.prim) return std::nullopt;
+            return as_point_source(l, scene, si.p);
+        }
+        case LightKind::Environment: return std::nullopt;
+    }
+    return std::nullopt;
 }
 
 // Adds f * I cos(theta_i) / d^2 from one point source, if the shadow ray reaches it.
@@ -95,15 +117,21 @@ LocalMaterial local_material(const Material& m, const Vec2& uv) {
 std::vector<std::string> local_material_notes(const Scene& scene) {
     std::vector<std::string> notes;
     for (const Material& m : scene.materials()) {
-        if (m.type == MaterialType::Mirror)
-            notes.push_back("material '" + m.name + "' (mirror): shaded as diffuse with albedo = " +
-                            "its reflectance " + rgb(m.reflectance) + "; no reflection");
-        if (m.type == MaterialType::Glass)
-            notes.push_back("material '" + m.name +
-                            "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
-                            "absorbs nothing); no refraction, no reflection");
-        if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
-            notes.push_back(glossy_as_highlight_note(m));
+        switch (m.type) {
+            case MaterialType::Diffuse: break;  // Lambert, as it is
+            case MaterialType::Glossy:
+            case MaterialType::Conductor: notes.push_back(glossy_as_highlight_note(m)); break;
+            case MaterialType::Mirror:
+                notes.push_back("material '" + m.name +
+                                "' (mirror): shaded as diffuse with albedo = its reflectance " +
+                                rgb(m.reflectance) + "; no reflection");
+                break;
+            case MaterialType::Glass:
+                notes.push_back("material '" + m.name +
+                                "' (glass): shaded as white diffuse (albedo 1: a clear dielectric "
+                                "absorbs nothing); no refraction, no reflection");
+                break;
+        }
     }
     return notes;
 }
@@ -130,16 +158,9 @@ std::string ambient_note(const Color& ambient) {
 Color direct_local(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
                    const Vec3& n) {
     Color L(0.0f);
-    for (const PointLight& light : scene.point_lights())
-        L += shade_from(scene, si, m, n,
-                        {light.position,
-                         light.intensity,
-                         {light.position, Vec3(0.0f), Vec3(0.0f)},
-                         std::nullopt});
-    for (const AreaLight& light : scene.area_lights()) {
-        if (light.prim == si.prim) continue;  // an emitter does not light itself
-        L += shade_from(scene, si, m, n, as_point_source(light, scene, si.p));
-    }
+    for (const LightRef& light : scene.lights())
+        if (const std::optional<PointSource> source = point_source(scene, light, si))
+            L += shade_from(scene, si, m, n, *source);
     return L;
 }
 
@@ -170,7 +191,9 @@ RayCastingModel::RayCastingModel(const Scene& scene, const RayCastingOptions& op
     biased_because.push_back(
         "a local model: light arriving from other surfaces (indirect light, reflections, "
         "refraction) is missing, and the ambient term is a constant guess for it");
-    if (scene.point_lights().empty() && scene.area_lights().empty())
+    const std::vector<LightRef> lights = scene.lights();  // the sky lights only the ambient term
+    if (std::all_of(lights.begin(), lights.end(),
+                    [](LightRef l) { return l.kind == LightKind::Environment; }))
         notes.push_back("the scene has no lights: only emission, ambient and background");
 }
 

@@ -83,12 +83,11 @@ WhittedModel::WhittedModel(const Scene& scene, const WhittedOptions& options)
         notes.push_back(area_lights_as_points_note(scene) +
                               "; seen directly and in mirrors as surfaces");
     for (const Material& m : scene.materials())
-        if (m.type == MaterialType::Glossy || m.type == MaterialType::Conductor)
-            notes.push_back(glossy_as_highlight_note(m));
+        if (facts_of(m.type).lobe) notes.push_back(glossy_as_highlight_note(m));
     bool has_glass = false, has_specular = false;
     for (const Material& m : scene.materials()) {
         has_glass |= m.type == MaterialType::Glass;
-        has_specular |= m.type == MaterialType::Glass || m.type == MaterialType::Mirror;
+        has_specular |= facts_of(m.type).delta;
     }
     if (has_glass)
         notes.push_back(std::string("glass: ") +

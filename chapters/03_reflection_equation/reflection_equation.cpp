@@ -134,7 +134,7 @@ ReflectionModel::ReflectionModel(const Scene& scene, const ReflectionOptions& op
             " estimator: a sampled direction never hits a point (use light or mis)");
     bool delta = false;
     for (const Material& m : scene.materials())
-        delta |= m.type == MaterialType::Mirror || m.type == MaterialType::Glass;
+        delta |= facts_of(m.type).delta;
     if (delta)
         notes.push_back(
             "mirror and glass: one BSDF-sampled direction, whatever the estimator (a delta "

@@ -24,7 +24,8 @@ void record_input(Scene& scene, const std::string& file) {
 }
 
 // Reads the image a material's albedo names (once per file), and checks what needed its texels:
-// a glossy material's albedo + specular at most 1.
+// where a diffuse base and a lobe share the light the surface receives (a glossy material),
+// albedo + specular at most 1.
 void read_albedo_texture(Material& m, const SourceLocation& where, const InputLimits& limits,
                          TextureCache& textures, Scene& scene) {
     if (m.albedo.image_file.empty() || m.albedo.image) return;
@@ -41,7 +42,8 @@ void read_albedo_texture(Material& m, const SourceLocation& where, const InputLi
         record_input(scene, m.albedo.image_file);
     }
     m.albedo.image = it->second;
-    if (m.type == MaterialType::Glossy && max_component(m.albedo.maximum() + m.specular) > 1.0f)
+    const MaterialTypeFacts type = facts_of(m.type);
+    if (type.albedo && type.lobe && max_component(m.albedo.maximum() + m.specular) > 1.0f)
         throw InputError(where.file, where.line, where.field,
                          "albedo (its brightest texel) + specular must be at most 1 in every "
                          "channel; lower specular");

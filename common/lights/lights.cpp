@@ -27,43 +27,54 @@ float cone_one_minus_cos(float sin2_max) {
 }  // namespace
 
 LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
-    std::vector<double> power;
-    for (uint32_t i = 0; i < scene.point_lights().size(); ++i) {
-        // An isotropic point source of intensity I sends 4 pi I.
-        const float p = 4.0f * kPi * luminance(scene.point_lights()[i].intensity);
-        light_of_point_.push_back(SIZE_MAX);
-        if (!(p > 0.0f) || !std::isfinite(p)) continue;
-        light_of_point_.back() = lights_.size();
-        lights_.push_back({Kind::Point, i});
-        power.push_back(p);
-        has_point_lights_ = true;
-    }
-    for (uint32_t i = 0; i < scene.area_lights().size(); ++i) {
-        const AreaLight& light = scene.area_lights()[i];
+    for (const AreaLight& light : scene.area_lights()) {
         rectangles_.push_back(std::nullopt);
         if (light.rectangle) {
             const Quad& quad = scene.quads()[light.prim.index()];
             rectangles_.back().emplace(quad.corner, quad.edge_u, quad.edge_v);
         }
-        const float p = power_of(light);
-        if (!(p > 0.0f) || !std::isfinite(p)) continue;
-        light_of_primitive_[light.prim.bits] = lights_.size();
-        lights_.push_back({Kind::Area, i});
-        power.push_back(p);
     }
-    if (scene.has_environment()) {
-        // A uniform environment of radiance L sends, from every direction, the radiance L
-        // through the disk of area pi R^2 that the scene's bounding sphere (radius R) shows
-        // that direction: pi R^2 L per steradian, over 4 pi steradians, power 4 pi^2 R^2 L.
-        // Only the ratios of the powers matter (they set how often each light is chosen, never
-        // the image's mean): the weight used is a quarter of that power, pi^2 R^2 L, so the sky
-        // is chosen less often than its power alone would say.
-        const Bounds3 b = scene.bounds();
-        const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
-        environment_ = lights_.size();
-        lights_.push_back({Kind::Environment, 0});
-        const Color sky = scene.environment_map ? scene.environment_map->mean() : scene.background;
-        power.push_back(kPi * kPi * r * r * luminance(sky));
+    light_of_point_.assign(scene.point_lights().size(), SIZE_MAX);
+    std::vector<double> power;
+    // Each light's power, and where the sampler finds it again; a point or area light that sends
+    // nothing (or no finite power) is never chosen.
+    for (const LightRef& light : scene.lights()) {
+        float p = 0.0f;
+        switch (light.kind) {
+            case LightKind::Point: {
+                // An isotropic point source of intensity I sends 4 pi I.
+                p = 4.0f * kPi * luminance(scene.point_lights()[light.index].intensity);
+                if (!(p > 0.0f) || !std::isfinite(p)) continue;
+                light_of_point_[light.index] = lights_.size();
+                has_point_lights_ = true;
+                break;
+            }
+            case LightKind::Area: {
+                const AreaLight& area_light = scene.area_lights()[light.index];
+                p = power_of(area_light);
+                if (!(p > 0.0f) || !std::isfinite(p)) continue;
+                light_of_primitive_[area_light.prim.bits] = lights_.size();
+                break;
+            }
+            case LightKind::Environment: {
+                // A uniform environment of radiance L sends, from every direction, the radiance
+                // L through the disk of area pi R^2 that the scene's bounding sphere (radius R)
+                // shows that direction: pi R^2 L per steradian, over 4 pi steradians, power
+                // 4 pi^2 R^2 L. Only the ratios of the powers matter (they set how often each
+                // light is chosen, never the image's mean): the weight used is a quarter of that
+                // power, pi^2 R^2 L, so the sky is chosen less often than its power alone would
+                // say.
+                const Bounds3 b = scene.bounds();
+                const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
+                const Color sky =
+                    scene.environment_map ? scene.environment_map->mean() : scene.background;
+                p = kPi * kPi * r * r * luminance(sky);
+                environment_ = lights_.size();
+                break;
+            }
+        }
+        lights_.push_back(light);
+        power.push_back(p);
     }
     // By power, yet every light at least 2^-24 (sampling/discrete.h): a lamp 1e8 times dimmer
     // than another is still chosen now and then, so no estimator weighs its light against a
@@ -91,10 +102,10 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
     const size_t light = choose_light(u_choose);
     const float choose = choice_probability(light);
     if (!(choose > 0.0f)) return std::nullopt;
-    const Entry& e = lights_[light];
+    const LightRef& e = lights_[light];
     std::optional<LightSample> s;
     switch (e.kind) {
-        case Kind::Point: {
+        case LightKind::Point: {
             const PointLight& l = scene_.point_lights()[e.index];
             const Vec3 d = l.position - at.p;
             const float d2 = glm::dot(d, d);
@@ -109,8 +120,8 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
                             std::nullopt};
             break;
         }
-        case Kind::Area: return sample_area(e.index, at, u, choose);  // the common case
-        case Kind::Environment: {
+        case LightKind::Area: return sample_area(e.index, at, u, choose);  // the common case
+        case LightKind::Environment: {
             // A map: by its importance (environment.h); a uniform sky: uniform on the sphere.
             if (scene_.environment_map) {
                 const std::optional<EnvironmentMap::Sample> m = scene_.environment_map->sample(u);
@@ -246,21 +257,31 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
     const size_t light = choose_light(u_choose);
     const float choose = choice_probability(light);
     if (!(choose > 0.0f)) return std::nullopt;
-    if (lights_[light].kind == Kind::Point) {
-        const PointLight& l = scene_.point_lights()[lights_[light].index];
-        const Vec3 w = sample_uniform_sphere(u_dir);
-        return EmissionSample{
-            Ray{l.position, w, kInfinity}, l.position,  Vec3(0.0f), l.intensity, choose,
-            uniform_sphere_pdf(),          std::nullopt};
+    const LightRef& e = lights_[light];
+    switch (e.kind) {
+        case LightKind::Point: {
+            const PointLight& l = scene_.point_lights()[e.index];
+            const Vec3 w = sample_uniform_sphere(u_dir);
+            return EmissionSample{
+                Ray{l.position, w, kInfinity}, l.position,  Vec3(0.0f), l.intensity, choose,
+                uniform_sphere_pdf(),          std::nullopt};
+        }
+        case LightKind::Area: return sample_area_emission(e.index, choose, u_point, u_dir);
+        case LightKind::Environment: return std::nullopt;  // starts no light path (lights.h)
     }
-    if (lights_[light].kind != Kind::Area) return std::nullopt;  // the environment
-    const AreaLight& area_light = scene_.area_lights()[lights_[light].index];
-    SurfacePoint on = point_by_area(lights_[light].index, u_point);
+    return std::nullopt;
+}
+
+std::optional<EmissionSample> LightSampler::sample_area_emission(uint32_t area_light, float choose,
+                                                                 const Vec2& u_point,
+                                                                 const Vec2& u_dir) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
+    SurfacePoint on = point_by_area(area_light, u_point);
     // A two-sided light leaves by either side, half the time each: u_dir.x picks the side, then
     // is stretched back to [0, 1).
     Vec2 u = u_dir;
     float side = 1.0f;
-    if (area_light.two_sided) {
+    if (light.two_sided) {
         side = 0.5f;
         if (u.x < 0.5f) {
             on.n = -on.n;
@@ -275,10 +296,10 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
     return EmissionSample{spawn_ray(on, w),
                           on.p,
                           on.n,
-                          area_light.radiance,
-                          choose / area_light.area,
+                          light.radiance,
+                          choose / light.area,
                           side * cosine_hemisphere_pdf(local.z),
-                          area_light.prim,
+                          light.prim,
                           on.error};
 }
 

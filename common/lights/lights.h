@@ -111,11 +111,6 @@ public:
     EmissionPdf point_emission_pdf(uint32_t index) const;
 
 private:
-    enum class Kind { Point, Area, Environment };
-    struct Entry {
-        Kind kind;
-        uint32_t index;  // into scene.point_lights() or scene.area_lights()
-    };
     // The light a uniform number picks, in proportion to power (an index into lights_).
     size_t choose_light(float u_choose) const;
     float choice_probability(size_t light) const;
@@ -126,9 +121,14 @@ private:
     float area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
     // A point uniform by area on an area light: the light's surface point, with its unit normal.
     SurfacePoint point_by_area(uint32_t area_light, const Vec2& u) const;
+    // A ray leaving area light `area_light`, chosen with probability `choose` (sample_emission).
+    std::optional<EmissionSample> sample_area_emission(uint32_t area_light, float choose,
+                                                       const Vec2& u_point,
+                                                       const Vec2& u_dir) const;
 
     const Scene& scene_;
-    std::vector<Entry> lights_;
+    // The scene's lights (Scene::lights()) but the point and area lights that send nothing.
+    std::vector<LightRef> lights_;
     std::vector<float> cdf_;  // cumulative choice probabilities (sampling/discrete.h)
     std::unordered_map<uint32_t, size_t> light_of_primitive_;
     std::vector<size_t> light_of_point_;  // per point light: its index in lights_, or SIZE_MAX

@@ -184,13 +184,14 @@ Bsdf::Bsdf(const BsdfLobe& lobe, const Vec3& shading_normal, const Vec3& geometr
 
 Bsdf::Bsdf(const Material& material, const SurfaceInteraction& si)
     : lobe_(lobe_of(material, si.uv)), frame_(si.n_shading), n_geo_(si.n_geo) {
-    if (material.type != MaterialType::Glass && !si.front_face()) {
+    const bool transmits = facts_of(material.type).transmits;
+    if (!transmits && !si.front_face()) {
         frame_ = Frame(-si.n_shading);
         n_geo_ = -si.n_geo;
     }
     // An interpolated normal can tilt so far that the viewer is below its hemisphere (near the
     // silhouette of a coarse mesh); every lobe would then be black. Shade with the true surface.
-    if (si.shading_fallback && material.type != MaterialType::Glass) {
+    if (si.shading_fallback && !transmits) {
         n_interpolated_ = frame_.n;
         may_fall_back_ = true;
         if (glm::dot(si.wo, frame_.n) <= 0.0f) {

@@ -19,15 +19,35 @@ enum class MaterialType {
     Glass,      // smooth dielectric: index of refraction
 };
 
-inline const char* material_type_name(MaterialType t) {
+// What the rest of the suite asks of a material type, answered here once (a new type: its case
+// here, its lobe in bsdf.h/.cpp, and the other places docs/architecture.md lists under "A
+// material").
+struct MaterialTypeFacts {
+    const char* name;        // as scene files, reports and the scene export write it
+    bool delta = false;      // scatters into single directions (a delta BSDF): only a sampled
+                             // direction finds light through it, never a light sample
+    bool transmits = false;  // light crosses it: its BSDF keeps the geometric orientation
+    // The parameters of Material it uses (the others keep their defaults and mean nothing):
+    bool albedo = false;       // albedo, a diffuse reflectance (what --albedo replaces)
+    bool lobe = false;         // specular and roughness, a rough reflection lobe
+    bool reflectance = false;  // reflectance (a mirror's)
+    bool dielectric = false;   // ior and transmittance
+};
+
+inline constexpr MaterialTypeFacts facts_of(MaterialType t) {
     switch (t) {
-        case MaterialType::Diffuse: return "diffuse";
-        case MaterialType::Glossy: return "glossy";
-        case MaterialType::Conductor: return "conductor";
-        case MaterialType::Mirror: return "mirror";
-        case MaterialType::Glass: return "glass";
+        case MaterialType::Diffuse: return {.name = "diffuse", .albedo = true};
+        case MaterialType::Glossy: return {.name = "glossy", .albedo = true, .lobe = true};
+        case MaterialType::Conductor: return {.name = "conductor", .lobe = true};
+        case MaterialType::Mirror: return {.name = "mirror", .delta = true, .reflectance = true};
+        case MaterialType::Glass:
+            return {.name = "glass", .delta = true, .transmits = true, .dielectric = true};
     }
-    return "?";
+    return {.name = "?"};
+}
+
+inline const char* material_type_name(MaterialType t) {
+    return facts_of(t).name;
 }
 
 // An image of linear reflectances over (u, v) in [0, 1]^2 (io/texture.cpp reads it from PNG,

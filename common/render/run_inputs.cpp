@@ -96,7 +96,7 @@ void apply_albedo(float rho, Scene& scene) {
     if (rho < 0.0f) return;
     for (uint32_t i = 0; i < scene.materials().size(); ++i) {
         Material m = scene.material(i);
-        if (m.type != MaterialType::Diffuse && m.type != MaterialType::Glossy) continue;
+        if (!facts_of(m.type).albedo) continue;
         m.albedo = ColorTexture{};
         m.albedo.value = Color(rho);
         scene.replace_material(i, m);

@@ -423,24 +423,35 @@ Color Scene::emitted(const SurfaceInteraction& si) const {
     return m.emission;
 }
 
+std::vector<LightRef> Scene::lights() const {
+    std::vector<LightRef> lights;
+    lights.reserve(point_lights_.size() + area_lights_.size() + 1);
+    for (uint32_t i = 0; i < point_lights_.size(); ++i) lights.push_back({LightKind::Point, i});
+    for (uint32_t i = 0; i < area_lights_.size(); ++i) lights.push_back({LightKind::Area, i});
+    if (has_environment()) lights.push_back({LightKind::Environment, 0});
+    return lights;
+}
+
 SceneContents Scene::contents() const {
     SceneContents c;
-    c.point_lights = !point_lights_.empty();
-    c.area_lights = !area_lights_.empty();
-    c.environment = has_environment();
-    auto delta = [&](uint32_t m) {
-        return materials_[m].type == MaterialType::Mirror ||
-               materials_[m].type == MaterialType::Glass;
-    };
+    for (const LightRef& light : lights()) {
+        switch (light.kind) {
+            case LightKind::Point: {
+                c.point_lights = true;
+                const Vec3 d = point_lights_[light.index].position - camera.position();
+                if (glm::dot(d, d) > 0.0f)
+                    c.point_light_in_view |=
+                        camera.raster_position(glm::normalize(d), width, height).has_value();
+                break;
+            }
+            case LightKind::Area: c.area_lights = true; break;
+            case LightKind::Environment: c.environment = true; break;
+        }
+    }
+    auto delta = [&](uint32_t m) { return facts_of(materials_[m].type).delta; };
     for (uint32_t m : sphere_materials_) c.delta_materials |= delta(m);
     for (uint32_t m : quad_materials_) c.delta_materials |= delta(m);
     for (const Triangle& t : triangles_) c.delta_materials |= delta(t.material);
-    for (const PointLight& l : point_lights_) {
-        const Vec3 d = l.position - camera.position();
-        if (glm::dot(d, d) > 0.0f)
-            c.point_light_in_view |=
-                camera.raster_position(glm::normalize(d), width, height).has_value();
-    }
     return c;
 }
 

@@ -52,6 +52,22 @@ struct AreaLight {
     bool rectangle = false;  // a quad with orthogonal edges: sampled by solid angle (lights.h)
 };
 
+// The kinds of light. Code that treats every light alike goes through Scene::lights(); code
+// that must tell them apart switches on the kind, once per purpose (docs/architecture.md lists
+// where: "A light").
+enum class LightKind {
+    Point,        // a PointLight
+    Area,         // an AreaLight: an emissive primitive
+    Environment,  // the background: a uniform sky or an environment map
+};
+
+// One light of a scene: its kind, and its index into Scene::point_lights() or area_lights()
+// (0 for the environment, of which a scene has at most one).
+struct LightRef {
+    LightKind kind;
+    uint32_t index;
+};
+
 // The naive methods that the robust ones replace, kept so their failures can be shown
 // (docs/robustness.md; the --naive flag). All off by default.
 struct NaiveMethods {
@@ -119,6 +135,10 @@ public:
     const Material& material(uint32_t i) const { return materials_[i]; }
     const std::vector<PointLight>& point_lights() const { return point_lights_; }
     const std::vector<AreaLight>& area_lights() const { return area_lights_; }
+    // Every light, in one order: the point lights, the area lights (found by commit()), then the
+    // environment if there is one (has_environment()). The light sampler's choice and lesson
+    // 1's sum over lights follow this order.
+    std::vector<LightRef> lights() const;
     const std::vector<Sphere>& spheres() const { return spheres_; }
     const std::vector<Quad>& quads() const { return quads_; }
     const std::vector<Triangle>& triangles() const { return triangles_; }

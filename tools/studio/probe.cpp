@@ -47,17 +47,28 @@ Irradiance direct_irradiance(const Scene& scene, const SurfaceInteraction& si, c
 }
 
 // A light, for the page's choice of a direction for f: a point light's position, an area
-// light's centre.
+// light's centre (the environment has no position: not offered).
 struct LightPoint {
     std::string what;
     Vec3 position;
 };
 std::vector<LightPoint> light_points(const Scene& scene) {
-    std::vector<LightPoint> lights;
-    for (const PointLight& l : scene.point_lights()) lights.push_back({"point light", l.position});
-    for (const AreaLight& l : scene.area_lights())
-        lights.push_back({"area light (" + scene.material(l.material).name + ")", l.center});
-    return lights;
+    std::vector<LightPoint> points;
+    for (const LightRef& light : scene.lights()) {
+        switch (light.kind) {
+            case LightKind::Point:
+                points.push_back({"point light", scene.point_lights()[light.index].position});
+                break;
+            case LightKind::Area: {
+                const AreaLight& l = scene.area_lights()[light.index];
+                const std::string& name = scene.material(l.material).name;
+                points.push_back({"area light (" + name + ")", l.center});
+                break;
+            }
+            case LightKind::Environment: break;
+        }
+    }
+    return points;
 }
 
 // The pixel's radiance L (the mean of its samples) and the standard error of that mean.
