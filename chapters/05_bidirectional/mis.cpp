@@ -82,27 +82,27 @@ bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
 
 namespace {
 
-// The relative densities of every technique for one path, against the technique that made it:
-// strategy (s, t), the path x_0 .. x_{n-1} being light[0 .. s-1] + camera[t-1 .. 0] (with the
-// vertices the strategy made itself, as in mis_weight); or, given `photon` (lesson 6), the merge
-// at x_s = camera[t - 1] of the light subpath light[0 .. s-1], photon, whose vertex `photon`
-// landed near it. Returns the sum over the connection strategies k != s of (p_k / p_s)^2 and,
-// with merging (eta > 0), over the merges at every vertex j != s of (p_merge(j) / p_s)^2;
-// `merged` (if not null) receives p_merge(s) / p_s, the merge at x_s itself (0 where none can be
-// made); `joinable` whether strategy s itself can make the path.
-double other_techniques(const Bidir& b, std::span<const Vertex> light, int s,
-                        std::span<const Vertex> camera, int t, const Vertex* light_sample,
-                        const Vertex* camera_end, double eta, const Vertex* photon,
-                        double* merged, bool* joinable) {
-    const int n = s + t;
-    // x_i, from the light end: light[i] for i < s, then camera[n - 1 - i].
-    auto x = [&](int i) -> const Vertex& {
+// A technique's path x_0 .. x_{n-1}, from the light end: light[i] for i < s, then
+// camera[n - 1 - i], with the vertices the strategy made itself in their places.
+struct TechniquePath {
+    std::span<const Vertex> light, camera;
+    int s, t;
+    const Vertex* light_sample;
+    const Vertex* camera_end;
+    const Vertex& operator()(int i) const {
         if (i < s) return (s == 1 && light_sample) ? *light_sample : light[i];
-        const int j = n - 1 - i;
+        const int j = s + t - 1 - i;
         return (t == 1 && camera_end) ? *camera_end : camera[j];
-    };
+    }
+};
 
-    thread_local std::vector<VertexDensities> d;
+// Every vertex's densities from both sides, as the subpaths stored them, with those the technique
+// changes made anew: at the join q = x_{s-1} to p = x_s (or the merge at x_s, whose light side is
+// the vertex `photon`) and at their neighbours; the delta chains' unfolded (through_delta_chains).
+// Returns whether strategy s itself can make the path (a merge's x_{s-1} may be a mirror).
+bool technique_densities(const Bidir& b, const TechniquePath& x, const Vertex* photon,
+                         std::vector<VertexDensities>& d) {
+    const int s = x.s, t = x.t, n = s + t;
     d.assign(n, {});
     for (int i = 0; i < n; ++i) {
         const Vertex& v = x(i);
@@ -116,24 +116,43 @@ double other_techniques(const Bidir& b, std::span<const Vertex> light, int s,
         // for it on the light side (its own density, and its BSDF going on towards x_{s+1}).
         d[s].from_light = photon->pdf_fwd;
         if (t > 1) d[s + 1].from_light = density_towards(b, *photon, q, x(s + 1));
-        d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
-        if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
     } else {
-        // The join, q = x_{s-1} to p = x_s: their densities from the other side, and their
-        // neighbours'. When s = 0, p is on a light: the light subpath would have started there.
+        // The join: p and x_{s+1} from the light side. When s = 0, p is on a light: the light
+        // subpath would have started there.
         d[s].from_light = q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p)
                             : light_origin_density(b, p);
         if (t > 1)
             d[s + 1].from_light =
                 q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
-        if (q) d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
-        if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
     }
+    // q and x_{s-2} from the camera side.
+    if (q) d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
+    if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
     // The join's ends are joined, not scattered (a merge's x_{s-1} scattered as it did).
-    if (joinable) *joinable = !(q && d[s - 1].delta) && !d[s].delta;
+    const bool joinable = !(q && d[s - 1].delta) && !d[s].delta;
     d[s].delta = false;
     if (q && !photon) d[s - 1].delta = false;
     through_delta_chains(x, n, d);
+    return joinable;
+}
+
+// The relative densities of every technique for one path, against the technique that made it:
+// strategy (s, t), the path x_0 .. x_{n-1} being light[0 .. s-1] + camera[t-1 .. 0] (with the
+// vertices the strategy made itself, as in mis_weight); or, given `photon` (lesson 6), the merge
+// at x_s = camera[t - 1] of the light subpath light[0 .. s-1], photon, whose vertex `photon`
+// landed near it. Returns the sum over the connection strategies k != s of (p_k / p_s)^2 and,
+// with merging (eta > 0), over the merges at every vertex j != s of (p_merge(j) / p_s)^2;
+// `merged` (if not null) receives p_merge(s) / p_s, the merge at x_s itself (0 where none can be
+// made); `joinable` whether strategy s itself can make the path.
+double other_techniques(const Bidir& b, std::span<const Vertex> light, int s,
+                        std::span<const Vertex> camera, int t, const Vertex* light_sample,
+                        const Vertex* camera_end, double eta, const Vertex* photon,
+                        double* merged, bool* joinable) {
+    const int n = s + t;
+    const TechniquePath x{light, camera, s, t, light_sample, camera_end};
+    thread_local std::vector<VertexDensities> d;
+    const bool can_join = technique_densities(b, x, photon, d);
+    if (joinable) *joinable = can_join;
 
     // x_0 is made differently by different strategies (Veach 1997, 10.2.2): strategy 0's camera
     // path hits it (no camera path hits a point light: 0); strategy 1's light sample picks it
