@@ -29,14 +29,6 @@ using test::MirroredPointLight;
 
 namespace {
 
-RenderSettings quiet_settings(uint64_t seed, int threads = 0) {
-    RenderSettings settings;
-    settings.progress = false;
-    settings.seed = seed;
-    settings.threads = threads;
-    return settings;
-}
-
 // Photon mapping (or its progressive form) on the mirrored point light: paths of at most three
 // segments, so the photons that count (vertex 2 and on, gather.cpp) are exactly those that came
 // off the mirror (the floor's photons at vertex 1 are direct light, the light sample's; a
@@ -68,7 +60,7 @@ TEST(PhotonMapping, AFixedRadiusConvergesToTheKernelsBlurOfAPointLightsIrradianc
     // value rejected by many standard errors.
     const MirroredPointLight m;
     const Scene scene = test::point_light_under_a_mirror(m, 33, 0.7f, 46.0f);
-    RenderSettings settings = quiet_settings(93);
+    RenderSettings settings = test::quiet_settings(93);
     settings.jitter = false;
     const size_t centre = 16 * 33 + 16;
     const Ray ray = scene.camera.generate_ray(16.5f, 16.5f, 33, 33);
@@ -147,7 +139,7 @@ TEST(Ppm, TheErrorFallsWithoutLevellingOff) {
     const float r1 = 0.4f;
     const std::vector<double> Ks = {4, 16, 64, 256};
     const int seeds = 8, N = size * size;
-    RenderSettings settings = quiet_settings(0);
+    RenderSettings settings = test::quiet_settings(0);
     settings.jitter = false;
 
     // Each pixel's distance from the light's foot and its radiance.
@@ -282,7 +274,7 @@ TEST(PhotonMapping, IsTheSameForAnyNumberOfThreads) {
         std::vector<RenderResult> results;
         for (const int threads : {1, 2, 3})
             results.push_back(render_scene(scene, PhotonMappingModel(scene, options), 4,
-                                           quiet_settings(94, threads)));
+                                           test::quiet_settings(94, threads)));
         ASSERT_EQ(results[0].layers.size(), method == PhotonMethod::VertexMerging ? 3u : 2u);
         EXPECT_GT(test::image_mean(results[0].image, results[0].variance).first, 0.0);
         for (size_t k = 1; k < results.size(); ++k) {
@@ -304,7 +296,7 @@ TEST(PhotonMapping, PassesSplitAcrossPartsMergeIntoTheSingleRun) {
     // hold the single run's sums exactly (film.h) and give its image bit for bit, for vcm and
     // ppm, with their technique images.
     const Scene scene = small_cornell_spheres();
-    const RenderSettings settings = quiet_settings(95);
+    const RenderSettings settings = test::quiet_settings(95);
     for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive}) {
         const char* name = photon_method_name(method);
         const PhotonOptions options = with_layers(method);

@@ -7,12 +7,22 @@
 #include <memory>
 #include <vector>
 
+#include "render/render.h"
 #include "sampling/rng.h"
 #include "sampling/sampling.h"
 #include "scene/environment.h"
 #include "scene/scene.h"
 
 namespace lessons::test {
+
+// Render settings for a test: no progress on stderr, the given seed and threads (0: all).
+inline RenderSettings quiet_settings(uint64_t seed, int threads = 0) {
+    RenderSettings settings;
+    settings.progress = false;
+    settings.seed = seed;
+    settings.threads = threads;
+    return settings;
+}
 
 // Calls fn(x, y, ray) for the ray through the center of every pixel of a width x height image,
 // row by row: the rays that a render without jitter traces first.

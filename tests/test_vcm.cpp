@@ -124,7 +124,7 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
     // shares with a camera ray that hits the lamp. At eta = 0 the joins alone sum to 1, as in
     // lesson 5. A density wrong the same way in every technique would still sum to 1: on the
     // lamp's L S D S E paths the merge's weight is also checked in closed form (merging's
-    // density is eta times the photon's density at the merge vertex, ACCURACY.md).
+    // density is eta times the photon's density at the merge vertex, docs/06_photon_mapping.md).
     const test::Room room = test::room_with_every_kind_of_vertex();
     const LightSampler lights(room.scene);
     const Bidir b{room.scene, lights, room.scene.camera, room.scene.width, room.scene.height};
@@ -179,14 +179,6 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
 
 namespace {
 
-RenderSettings quiet_settings(uint64_t seed, int threads = 0) {
-    RenderSettings settings;
-    settings.progress = false;
-    settings.seed = seed;
-    settings.threads = threads;
-    return settings;
-}
-
 // Whether two images hold the same floats, bit for bit.
 bool same_bits(const Image& a, const Image& b) {
     return a.width == b.width && a.height == b.height &&
@@ -209,9 +201,9 @@ TEST(Vcm, WithoutMergingIsLessonFiveBitForBit) {
         options.paths.max_depth = 6;
         options.paths.roulette_after = 2;
         const RenderResult six =
-            render_scene(scene, PhotonMappingModel(scene, options), 8, quiet_settings(91));
-        const RenderResult five =
-            render_scene(scene, BidirectionalModel(scene, options.paths), 8, quiet_settings(91));
+            render_scene(scene, PhotonMappingModel(scene, options), 8, test::quiet_settings(91));
+        const RenderResult five = render_scene(scene, BidirectionalModel(scene, options.paths), 8,
+                                               test::quiet_settings(91));
         EXPECT_TRUE(same_bits(six.image, five.image)) << file;
         EXPECT_TRUE(same_bits(six.variance, five.variance)) << file;
         EXPECT_GT(test::image_mean(five.image, five.variance).first, 0.0) << file;
@@ -220,7 +212,8 @@ TEST(Vcm, WithoutMergingIsLessonFiveBitForBit) {
 
 namespace {
 
-// ACCURACY.md's path no unbiased sampler here can make: a point light (at `light`, just below
+// A path no unbiased sampler here can make (docs/06_photon_mapping.md, "What each method
+// misses"): a point light (at `light`, just below
 // the plane of the receiver, so it lights the receiver's top only through the mirror above), a
 // horizontal mirror (reflectance R1, at height H, facing down) that throws the light's image onto
 // a diffuse receiver (albedo rho, the square |x|, |z| <= 0.5 at y = 0, facing up), and a camera
@@ -293,7 +286,7 @@ TEST(Vcm, APointLightsCausticSeenOnlyInAMirrorIsFound) {
     options.paths.max_depth = 4;
     const PhotonMappingModel vcm(scene, options);
     const int passes = 1024;
-    RenderSettings settings = quiet_settings(92);
+    RenderSettings settings = test::quiet_settings(92);
     settings.jitter = false;
 
     struct Tested {
