@@ -47,6 +47,27 @@ std::string number(double v) {
 
 }  // namespace
 
+// What the photon methods cannot find in this scene, as notes or as bias.
+void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
+    const SceneContents contents = scene.contents();
+    const bool joined = options_.method == PhotonMethod::VertexMerging;
+    if (contents.environment)
+        (joined ? notes : biased_because)
+            .push_back(joined ? "the sky leaves no photons: its light is found by the joins "
+                                "(camera paths escaping, light samples), as in lesson 5"
+                              : "the sky leaves no photons: its light after a bounce is missing "
+                                "(only the light sample at the first diffuse vertex sees it)");
+    if (contents.point_lights && contents.delta_materials)
+        biased_because.push_back(
+            "a point light seen in a mirror or through glass is missing: a delta light, a delta "
+            "BSDF and the pinhole make a path no estimator can (its caustics, seen any way, are "
+            "the photons')");
+    if (contents.point_light_in_view && !joined)
+        biased_because.push_back(
+            "a point light in view is missing: no camera ray hits a point, and photon mapping "
+            "does not join the light to the camera (vcm and bpt do)");
+}
+
 PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& options)
     : lights_(scene),
       b_{scene, lights_, scene.camera, scene.width, scene.height},
@@ -91,23 +112,7 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
         notes.push_back(
             "biased but consistent: the photons' blur shrinks with the radius, "
             "and with it the bias");
-    const SceneContents contents = scene.contents();
-    const bool joined = m == PhotonMethod::VertexMerging;
-    if (contents.environment)
-        (joined ? notes : biased_because)
-            .push_back(joined ? "the sky leaves no photons: its light is found by the joins "
-                                "(camera paths escaping, light samples), as in lesson 5"
-                              : "the sky leaves no photons: its light after a bounce is missing "
-                                "(only the light sample at the first diffuse vertex sees it)");
-    if (contents.point_lights && contents.delta_materials)
-        biased_because.push_back(
-            "a point light seen in a mirror or through glass is missing: a delta light, a delta "
-            "BSDF and the pinhole make a path no estimator can (its caustics, seen any way, are "
-            "the photons')");
-    if (contents.point_light_in_view && !joined)
-        biased_because.push_back(
-            "a point light in view is missing: no camera ray hits a point, and photon mapping "
-            "does not join the light to the camera (vcm and bpt do)");
+    add_what_it_misses(scene);
     add_path_length_notes(*this, options.paths.max_depth, options.paths.roulette_after);
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }

@@ -101,6 +101,7 @@ public:
     float alpha() const { return alpha_; }
 
 private:
+    void add_what_it_misses(const Scene& scene);
     Color connect_and_merge(const Ray& ray, Rng& rng, std::span<Color> layers,
                             std::vector<Splat>& splats) const;
 
