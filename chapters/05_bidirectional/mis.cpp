@@ -60,6 +60,41 @@ void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) 
     }
 }
 
+// The power heuristic's terms (p_k / p_s)^2 of the techniques whose join or merge lies between x_s
+// and the camera, k = s + 1 .. n - 1, added to `sum`. As the join moves past x_{k-1} towards the
+// camera, the ratio of the rest of the path's densities, m, changes by p_L(x_{k-1}) /
+// p_C(x_{k-1}) (Veach 1997, eq. 10.9; from k = first on: before it, x_0's density is the
+// technique's own, in join); join(k, m) is strategy k's ratio, merge(k, m) the merge at x_k's (0
+// where there is none). A zero on the way makes every technique beyond it impossible. Strategies
+// that would join at a mirror or glass have no density to meet and are left out.
+template <class Join, class Merge>
+void towards_camera(const std::vector<VertexDensities>& d, int s, int n, int first, Join&& join,
+                    Merge&& merge, double& sum) {
+    double m = 1.0;
+    for (int k = s + 1; k < n; ++k) {  // the join nearer the camera: x_{k-1} from the light
+        if (k >= first) m *= d[k - 1].from_light / divisor(d[k - 1].from_camera);
+        const double ratio = join(k, m);
+        if (!d[k - 1].delta && !d[k].delta) sum += ratio * ratio;
+        const double merged = merge(k, m);
+        sum += merged * merged;
+    }
+}
+
+// The same for the techniques between x_s and the light, k = s - 1 .. 0: m changes by
+// p_C(x_k) / p_L(x_k) as the join moves past x_k (k >= 1) towards the light.
+template <class Join, class Merge>
+void towards_light(const std::vector<VertexDensities>& d, int s, Join&& join, Merge&& merge,
+                   double& sum) {
+    double m = 1.0;
+    for (int k = s - 1; k >= 0; --k) {  // the join nearer the light: x_k from the camera
+        if (k >= 1) m *= d[k].from_camera / divisor(d[k].from_light);
+        const double ratio = join(k, m);
+        if (k == 0 || (!d[k - 1].delta && !d[k].delta)) sum += ratio * ratio;
+        const double merged = merge(k, m);
+        sum += merged * merged;
+    }
+}
+
 }  // namespace
 
 bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
@@ -96,12 +131,10 @@ struct TechniquePath {
     }
 };
 
-// Every vertex's densities from both sides, as the subpaths stored them, with those the technique
-// changes made anew: at the join q = x_{s-1} to p = x_s (or the merge at x_s, whose light side is
-// the vertex `photon`) and at their neighbours; the delta chains' unfolded (through_delta_chains).
-// Returns whether strategy s itself can make the path (a merge's x_{s-1} may be a mirror).
-bool technique_densities(const Bidir& b, const TechniquePath& x, const Vertex* photon,
-                         std::vector<VertexDensities>& d) {
+// Every vertex's densities from both sides, as the subpaths stored them, with those the join of
+// q = x_{s-1} to p = x_s changes made anew (at its ends and their neighbours), and the delta
+// chains' unfolded (through_delta_chains).
+void technique_densities(const Bidir& b, const TechniquePath& x, std::vector<VertexDensities>& d) {
     const int s = x.s, t = x.t, n = s + t;
     d.assign(n, {});
     for (int i = 0; i < n; ++i) {
@@ -111,66 +144,54 @@ bool technique_densities(const Bidir& b, const TechniquePath& x, const Vertex* p
     }
     const Vertex* q = s > 0 ? &x(s - 1) : nullptr;
     const Vertex& p = x(s);
-    if (photon) {
-        // A merge: x_s was made from both sides, the light subpath's vertex `photon` standing in
-        // for it on the light side (its own density, and its BSDF going on towards x_{s+1}).
-        d[s].from_light = photon->pdf_fwd;
-        if (t > 1) d[s + 1].from_light = density_towards(b, *photon, q, x(s + 1));
-    } else {
-        // The join: p and x_{s+1} from the light side. When s = 0, p is on a light: the light
-        // subpath would have started there.
-        d[s].from_light = q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p)
-                            : light_origin_density(b, p);
-        if (t > 1)
-            d[s + 1].from_light =
-                q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
-    }
+    // p and x_{s+1} from the light side. When s = 0, p is on a light: the light subpath would
+    // have started there.
+    d[s].from_light = q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p)
+                        : light_origin_density(b, p);
+    if (t > 1)
+        d[s + 1].from_light =
+            q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
     // q and x_{s-2} from the camera side.
     if (q) d[s - 1].from_camera = density_towards(b, p, t > 1 ? &x(s + 1) : nullptr, *q);
     if (s > 1) d[s - 2].from_camera = density_towards(b, *q, &p, x(s - 2));
-    // The join's ends are joined, not scattered (a merge's x_{s-1} scattered as it did).
-    const bool joinable = !(q && d[s - 1].delta) && !d[s].delta;
+    // The join's ends are joined, not scattered.
     d[s].delta = false;
-    if (q && !photon) d[s - 1].delta = false;
+    if (q) d[s - 1].delta = false;
     through_delta_chains(x, n, d);
-    return joinable;
 }
 
-// The relative densities of every technique for one path, against the technique that made it:
-// strategy (s, t), the path x_0 .. x_{n-1} being light[0 .. s-1] + camera[t-1 .. 0] (with the
-// vertices the strategy made itself, as in mis_weight); or, given `photon` (lesson 6), the merge
-// at x_s = camera[t - 1] of the light subpath light[0 .. s-1], photon, whose vertex `photon`
-// landed near it. Returns the sum over the connection strategies k != s of (p_k / p_s)^2 and,
-// with merging (eta > 0), over the merges at every vertex j != s of (p_merge(j) / p_s)^2;
-// `merged` (if not null) receives p_merge(s) / p_s, the merge at x_s itself (0 where none can be
-// made); `joinable` whether strategy s itself can make the path.
+// x_0 is made differently by different techniques (Veach 1997, 10.2.2): strategy 0's camera path
+// hits it (no camera path hits a point light: 0); strategy 1's light sample picks it (lesson 3's
+// density, by solid angle where it can; for a lamp seen directly, n = 2, strategy 1 is light
+// tracing and starts there); every other strategy starts its light subpath there (the sky starts
+// none: 0), and so does every merge.
+struct FirstVertex {
+    double hit = 0.0, sampled = 0.0, started = 0.0;
+    FirstVertex(const Vertex& x0, const VertexDensities& d0, int n)
+        : hit(x0.point_light ? 0.0 : d0.from_camera),
+          sampled(n >= 3 ? x0.pdf_light_sample : (x0.infinite ? 0.0 : d0.from_light)),
+          started(x0.infinite ? 0.0 : d0.from_light) {}
+    double operator()(int technique) const {
+        return technique == 0 ? hit : technique == 1 ? sampled : started;
+    }
+};
+
+// The relative densities of every technique for one path, against strategy (s, t) that made it,
+// the path x_0 .. x_{n-1} being light[0 .. s-1] + camera[t-1 .. 0] (with the vertices the
+// strategy made itself, as in mis_weight). Returns the sum over the connection strategies k != s
+// of (p_k / p_s)^2 and, with merging (eta > 0), over the merges at every vertex j != s of
+// (p_merge(j) / p_s)^2; `merged` (if not null) receives p_merge(s) / p_s, the merge at x_s itself
+// (0 where none can be made).
 double other_techniques(const Bidir& b, std::span<const Vertex> light, int s,
                         std::span<const Vertex> camera, int t, const Vertex* light_sample,
-                        const Vertex* camera_end, double eta, const Vertex* photon,
-                        double* merged, bool* joinable) {
+                        const Vertex* camera_end, double eta, double* merged) {
     const int n = s + t;
     const TechniquePath x{light, camera, s, t, light_sample, camera_end};
     thread_local std::vector<VertexDensities> d;
-    const bool can_join = technique_densities(b, x, photon, d);
-    if (joinable) *joinable = can_join;
-
-    // x_0 is made differently by different strategies (Veach 1997, 10.2.2): strategy 0's camera
-    // path hits it (no camera path hits a point light: 0); strategy 1's light sample picks it
-    // (lesson 3's density, by solid angle where it can; for a lamp seen directly, n = 2,
-    // strategy 1 is light tracing and starts there); every other strategy starts its light
-    // subpath there (the sky starts none: 0), and so does every merge.
-    const bool sky = x(0).infinite, point_light = x(0).point_light;
-    const double hit = point_light ? 0.0 : d[0].from_camera;
-    const double started = sky ? 0.0 : d[0].from_light;
-    const double sampled = n >= 3 ? x(0).pdf_light_sample : started;
-    auto x0_density = [&](int strategy) {
-        return strategy == 0 ? hit : strategy == 1 ? sampled : started;
-    };
-    // p_k / p_s = (x_0's density in strategy k / in s) times the ratio of the rest, m, which
-    // changes by p_L(x_i) / p_C(x_i) as the join moves past x_i (i >= 1) towards the camera,
-    // and back as it moves towards the light (Veach 1997, eq. 10.9). A zero on the way makes
-    // every strategy beyond it impossible, and its ratio 0. Strategies that would join at a
-    // mirror or glass have no density to meet and are left out.
+    technique_densities(b, x, d);
+    const FirstVertex x0_density(x(0), d[0], n);
+    // p_k / p_s = (x_0's density in strategy k / in s) times the ratio of the rest
+    // (towards_camera, towards_light).
     //
     // Lesson 6's merges: merging at x_j takes x_0 .. x_j from the light subpath (x_j landing
     // within r of the camera subpath's x_j) and x_j .. x_{n-1} from the camera subpath. Its
@@ -183,23 +204,13 @@ double other_techniques(const Bidir& b, std::span<const Vertex> light, int s,
     const double own_x0 = divisor(x0_density(s));
     auto merge_ratio = [&](int j, double m_j) {
         if (j < 1 || j > n - 2 || d[j].delta) return 0.0;
-        return started / own_x0 * m_j * eta * d[j].from_light;
+        return x0_density.started / own_x0 * m_j * eta * d[j].from_light;
     };
     double sum = 0.0;
-    double m = 1.0;
-    for (int k = s + 1; k < n; ++k) {  // the join nearer the camera: x_{k-1} from the light
-        if (k >= 2) m *= d[k - 1].from_light / divisor(d[k - 1].from_camera);
-        const double ratio = x0_density(k) / own_x0 * m;
-        if (!d[k - 1].delta && !d[k].delta) sum += ratio * ratio;
-        if (eta > 0.0) sum += merge_ratio(k, m) * merge_ratio(k, m);
-    }
-    m = 1.0;
-    for (int k = s - 1; k >= 0; --k) {  // the join nearer the light: x_k from the camera
-        if (k >= 1) m *= d[k].from_camera / divisor(d[k].from_light);
-        const double ratio = x0_density(k) / own_x0 * m;
-        if (k == 0 || (!d[k - 1].delta && !d[k].delta)) sum += ratio * ratio;
-        if (eta > 0.0) sum += merge_ratio(k, m) * merge_ratio(k, m);
-    }
+    auto join = [&](int k, double m) { return x0_density(k) / own_x0 * m; };
+    auto merge = [&](int k, double m) { return eta > 0.0 ? merge_ratio(k, m) : 0.0; };
+    towards_camera(d, s, n, 2, join, merge, sum);
+    towards_light(d, s, join, merge, sum);
     if (merged) *merged = eta > 0.0 ? merge_ratio(s, 1.0) : 0.0;
     return sum;
 }
@@ -218,28 +229,96 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
     // The power heuristic (Veach 1997, section 9.2): 1 / sum over all techniques k of
     // (p_k / p_s)^2, the strategy's own term being 1; with merging, the merge at x_s counts too.
     double merged = 0.0;
-    const double others =
-        other_techniques(b, light, s, camera, t, light_sample, camera_end, merge_eta, nullptr,
-                         merge_eta > 0.0 ? &merged : nullptr, nullptr);
+    const double others = other_techniques(b, light, s, camera, t, light_sample, camera_end,
+                                           merge_eta, merge_eta > 0.0 ? &merged : nullptr);
     return static_cast<float>(1.0 / (1.0 + others + merged * merged));
+}
+
+// A merge's weight in two halves (mis.h). Against the merge at x_s itself, the power heuristic's
+// terms are the same ratios as above divided by p_merge(s) / p_s = started eta p_L(x_s) / own:
+// x_0's own density cancels, and every term on the light side holds the camera side's density
+// of scattering at x_s towards x_{s-1} once (squared), every term on the camera side but the
+// first the light side's density of scattering at x_s towards x_{s+1}. Each half is computed
+// with that density 1 (per steradian), and the two densities are put in per photon.
+
+MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light,
+                                const Vertex& photon, double eta) {
+    const int s = static_cast<int>(light.size());  // the photon is x_s
+    MergeLightSide side;
+    if (s < 1 || !(eta > 0.0)) return side;
+    auto x = [&](int i) -> const Vertex& { return i < s ? light[i] : photon; };
+    thread_local std::vector<VertexDensities> d;
+    d.assign(s + 1, {});
+    for (int i = 0; i < s; ++i) d[i] = {light[i].pdf_fwd, light[i].pdf_rev, light[i].delta};
+    d[s] = {photon.pdf_fwd, 1.0, false};
+    const Vertex& q = light[s - 1];
+    d[s - 1].from_camera = to_area_density(1.0f, photon, q);  // scattering at x_s: 1 per sr
+    if (s > 1) d[s - 2].from_camera = density_towards(b, q, &photon, light[s - 2]);
+    through_delta_chains(x, s + 1, d);
+    // x_0's densities (a light sample at x_s picks it for strategy 1).
+    FirstVertex x0_density(light[0], d[0], s + 2);
+    if (s == 1) x0_density.sampled = light_sample_density(b, light[0], photon);
+    const double merged = x0_density.started * eta * d[s].from_light;  // p_merge(s) / p_s, times own
+    if (!(merged > 0.0) || !std::isfinite(merged)) return side;
+    double sum = 0.0;
+    towards_light(
+        d, s, [&](int k, double m) { return x0_density(k) * m; },
+        [&](int k, double m) {
+            return k >= 1 && !d[k].delta ? x0_density.started * m * eta * d[k].from_light : 0.0;
+        },
+        sum);
+    side.possible = true;
+    side.per_reverse2 = sum / (merged * merged);
+    // Strategy s itself (unless x_{s-1} is a mirror or glass): p_s / p_merge(s) = own / merged.
+    const double own = divisor(x0_density(s));
+    side.own_join = q.delta ? 0.0 : (own / merged) * (own / merged);
+    return side;
+}
+
+MergeCameraSide merge_camera_side(std::span<const Vertex> camera, int t, double eta) {
+    MergeCameraSide side;
+    const Vertex& z = camera[t - 1];
+    if (t < 2 || !(eta > 0.0) || z.type != VertexType::Surface || !z.bsdf || z.bsdf->is_delta())
+        return side;
+    side.towards_camera = direction(z, camera[t - 2]);
+    // The camera side's vertices x_s .. x_{n-1} as y_0 .. y_{t-1}: y_i = camera[t - 1 - i].
+    auto y = [&](int i) -> const Vertex& { return camera[t - 1 - i]; };
+    thread_local std::vector<VertexDensities> d;
+    d.assign(t, {});
+    for (int i = 0; i < t; ++i) d[i] = {y(i).pdf_rev, y(i).pdf_fwd, y(i).delta};
+    d[0].from_light = 1.0;  // p_L(x_s): it cancels
+    d[0].delta = false;
+    d[1].from_light = to_area_density(1.0f, z, y(1));  // scattering at x_s: 1 per sr
+    through_delta_chains(y, t, d);
+    // The join at x_s .. x_{s+1} (strategy s + 1) needs no density of the merge's: its ratio to
+    // the merge is 1 / (eta p_C(x_s)).
+    const double first = 1.0 / (eta * divisor(d[0].from_camera));
+    side.fixed = d[1].delta ? 0.0 : first * first;
+    towards_camera(
+        d, 0, t, 1, [&](int k, double m) { return k == 1 ? 0.0 : m / eta; },
+        [&](int k, double m) { return k <= t - 2 && !d[k].delta ? m * d[k].from_light : 0.0; },
+        side.per_forward2);
+    return side;
+}
+
+float merge_weight(const MergeLightSide& light, const MergeCameraSide& camera, double reverse,
+                   double forward) {
+    if (!light.possible || !camera.possible()) return 0.0f;
+    const double others = light.own_join + reverse * reverse * light.per_reverse2 + camera.fixed +
+                          forward * forward * camera.per_forward2;
+    return static_cast<float>(1.0 / (1.0 + others));
 }
 
 float merge_weight(const Bidir& b, std::span<const Vertex> light, int s, const Vertex& photon,
                    std::span<const Vertex> camera, int t, double merge_eta) {
-    // Strategy s's light sample would pick x_0 = y_0 from the merged vertex, camera[t - 1].
-    Vertex sampled;
-    if (s == 1) {
-        sampled = light[0];
-        sampled.pdf_light_sample = light_sample_density(b, sampled, camera[t - 1]);
-    }
-    double merged = 0.0;
-    bool joinable = false;
-    const double others = other_techniques(b, light, s, camera, t, s == 1 ? &sampled : nullptr,
-                                           nullptr, merge_eta, &photon, &merged, &joinable);
-    // Everything against strategy s (its own term 1, if it can join the path at all): the
-    // merge's term over the sum of all.
-    const double all = (joinable ? 1.0 : 0.0) + others + merged * merged;
-    return all > 0.0 ? static_cast<float>(merged * merged / all) : 0.0f;
+    const MergeCameraSide camera_side = merge_camera_side(camera, t, merge_eta);
+    if (!camera_side.possible()) return 0.0f;
+    const Bsdf& bsdf = *camera[t - 1].bsdf;
+    const Vec3 to_light = direction(photon, light[s - 1]);  // the photon's si.wo
+    const Vec3& to_camera = camera_side.towards_camera;
+    return merge_weight(merge_light_side(b, light.first(s), photon, merge_eta), camera_side,
+                        bsdf.pdf_seen_from(to_camera, to_light),
+                        bsdf.pdf_seen_from(to_light, to_camera));
 }
 
 }  // namespace lessons

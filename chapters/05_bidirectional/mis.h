@@ -68,8 +68,37 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
 // Lesson 6: the power-heuristic weight of merging at x_s = camera[t - 1]: the light subpath
 // light[0 .. s-1] went on to `photon`, a vertex within r of camera[t - 1], and the two are taken
 // as one, x_s (s >= 1, t >= 2). Against every connection strategy and every other merge of the
-// path, with merge_eta = N pi r^2 as above.
+// path, with merge_eta = N pi r^2 as above. The light side's densities are the photon's (where it
+// landed, where its light came from), the camera side's camera[t - 1]'s, and the BSDF at x_s is
+// camera[t - 1]'s: exactly the weights above when the photon lies on camera[t - 1], and within
+// the merge's own blur otherwise (Georgiev et al. 2012 make the same choice).
 float merge_weight(const Bidir& b, std::span<const Vertex> light, int s, const Vertex& photon,
                    std::span<const Vertex> camera, int t, double merge_eta);
+
+// The same weight in the two halves a merge brings together, so that each is computed once: the
+// light side once per photon, the camera side once per camera vertex, and per pair only the two
+// densities of scattering at x_s (per steradian, by camera[t - 1]'s BSDF):
+//   reverse  arriving from x_{s+1} (the camera's side), towards x_{s-1} (the photon's light);
+//   forward  arriving from x_{s-1}, towards x_{s+1}.
+// The power heuristic against the merge itself: w = 1 / (1 + the other techniques' terms), those
+// terms being light.own_join + reverse^2 light.per_reverse2 + camera.fixed + forward^2
+// camera.per_forward2 (mis.cpp).
+struct MergeLightSide {
+    bool possible = false;      // whether a merge can make the path at all
+    double per_reverse2 = 0.0;  // the joins and merges between x_s and the light
+    double own_join = 0.0;      // strategy s, the join of x_{s-1} to x_s
+};
+struct MergeCameraSide {
+    Vec3 towards_camera{0.0f};  // unit, from camera[t - 1] to camera[t - 2]
+    double fixed = 0.0;         // strategy s + 1, the join of x_s to x_{s+1}
+    double per_forward2 = 0.0;  // every other join and merge between x_s and the camera
+    bool possible() const { return towards_camera != Vec3(0.0f); }
+};
+// light: y_0 .. y_{s-1}; photon: y_s.
+MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light,
+                                const Vertex& photon, double merge_eta);
+MergeCameraSide merge_camera_side(std::span<const Vertex> camera, int t, double merge_eta);
+float merge_weight(const MergeLightSide& light, const MergeCameraSide& camera, double reverse,
+                   double forward);
 
 }  // namespace lessons

@@ -66,8 +66,7 @@ float density_towards(const Bidir& b, const Vertex& v, const Vertex* previous, c
             if (!previous || v.delta) return 0.0f;
             {  // a subpath arriving from `previous` samples with the BSDF as seen from there
                 const Vec3 from = direction(v, *previous);
-                return to_area_density(v.bsdf->seen_from(from).pdf(from, direction(v, next)), v,
-                                       next);
+                return to_area_density(v.bsdf->pdf_seen_from(from, direction(v, next)), v, next);
             }
     }
     return 0.0f;
@@ -161,7 +160,7 @@ void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_
                                  : light_side_scattering(b, here, s->wi) / s->pdf;
         // The density of the way back: `before` sampled from here, by a subpath that arrived
         // from the new direction (and so sees the BSDF from there).
-        float pdf_back = here.bsdf->seen_from(s->wi).pdf(s->wi, here.si.wo);
+        float pdf_back = here.bsdf->pdf_seen_from(s->wi, here.si.wo);
         float pdf_next = s->pdf;
         if (s->is_delta) {
             // A delta choice is made the same way from either side: the weights leave it out.

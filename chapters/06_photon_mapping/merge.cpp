@@ -7,15 +7,39 @@
 // every join and every other merge that could make the same path (merge_weight, mis.h, with
 // eta = N pi r^2: a merge is N times likelier than a join where the light subpath's density of
 // landing in the disk, p_L(x_s) pi r^2, is high).
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
 
+#include "accel/parallel.h"
 #include "density.h"
 #include "mis.h"
 #include "photon_mapping.h"
 
 namespace lessons {
 
-Color merges(const Bidir& b, const PhotonPass& pass, std::span<const Vertex> camera,
+void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads) {
+    std::vector<uint8_t> keep(paths.photons.size(), 0);
+    // A float holds the terms; one too large for it is as good as infinite, but must stay
+    // finite so that a density of 0 still cancels it.
+    auto to_float = [](double v) { return static_cast<float>(std::min(v, double{FLT_MAX})); };
+    parallel_parts(paths.photons.size(), threads, 1024, [&](size_t begin, size_t end, int) {
+        for (size_t i = begin; i < end; ++i) {
+            Photon& p = paths.photons[i];
+            const std::span<const Vertex> path = paths.subpath(p.path);
+            const MergeLightSide side = merge_light_side(b, path.first(p.vertex), path[p.vertex], eta);
+            p.merge_per_reverse2 = to_float(side.per_reverse2);
+            p.merge_own_join = to_float(side.own_join);
+            keep[i] = side.possible;
+        }
+    });
+    size_t kept = 0;  // in order: the photons no merge can use are left out
+    for (size_t i = 0; i < paths.photons.size(); ++i)
+        if (keep[i]) paths.photons[kept++] = paths.photons[i];
+    paths.photons.resize(kept);
+}
+
+Color merges(const PhotonPass& pass, std::span<const Vertex> camera,
              const PhotonOptions& options) {
     const int longest = options.paths.max_depth > 0 ? options.paths.max_depth : kLongestPath;
     const int N = std::max(pass.paths.count, 1);
@@ -24,16 +48,18 @@ Color merges(const Bidir& b, const PhotonPass& pass, std::span<const Vertex> cam
     for (int t = 2; t <= static_cast<int>(camera.size()); ++t) {
         const Vertex& z = camera[t - 1];
         if (z.type != VertexType::Surface || !z.connectible() || z.bsdf->is_delta()) continue;
+        const MergeCameraSide side = merge_camera_side(camera, t, eta);  // once per vertex
+        if (!side.possible()) continue;
+        const Vec3& to_camera = side.towards_camera;
         Color sum(0.0f);
         pass.grid.for_each_within(z.p, [&](const Photon& p) {
-            const int s = static_cast<int>(p.vertex);  // the light subpath's vertices before it
-            if (s + t - 1 > longest) return;
+            if (static_cast<int>(p.vertex) + t - 1 > longest) return;
             const std::optional<Color> term =
                 photon_term(p, z.si, *z.bsdf, z.si.wo, options.kernel, pass.radius);
             if (!term || is_black(*term)) return;
-            const std::span<const Vertex> light(&pass.paths.vertices[pass.paths.start[p.path]],
-                                                static_cast<size_t>(s));
-            const float w = merge_weight(b, light, s, pass.paths.vertex_of(p), camera, t, eta);
+            const MergeLightSide light{true, p.merge_per_reverse2, p.merge_own_join};
+            const float w = merge_weight(light, side, z.bsdf->pdf_seen_from(to_camera, p.wi),
+                                         z.bsdf->pdf_seen_from(p.wi, to_camera));
             sum += w * *term;
         });
         L += z.beta * sum;

@@ -44,8 +44,10 @@ struct Photon {
                           // before y_i): flux carried per light subpath, W
     Vec3 n{0.0f};         // unit geometric normal at p (the shape's front side)
     uint32_t path = 0;    // which light subpath of its iteration (photons.h)
-    uint32_t vertex = 0;  // which vertex i of that subpath, so that vertex connection and merging
-                          // can read y_i's densities (pdf_fwd, pdf_rev)
+    uint32_t vertex = 0;  // which vertex i of that subpath (the light's path has i segments)
+    // Vertex connection and merging: the light side of the merge's weight, computed once per
+    // photon (weigh_photons, photon_mapping.h; MergeLightSide in lesson 5's mis.h).
+    float merge_per_reverse2 = 0.0f, merge_own_join = 0.0f;
 };
 
 // A hashed uniform grid over photons for queries of one fixed radius r.

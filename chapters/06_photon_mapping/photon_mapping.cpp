@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "io/input_error.h"
 #include "radius.h"
@@ -121,17 +122,25 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     if (!uses_photons(options_.method) || (pass_.index == k && pass_.seed == settings.seed)) return;
     const int longest = options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
     PhotonPass& pass = pass_;
-    pass = PhotonPass{};  // the last pass's memory back first
+    pass.grid = PhotonGrid{};  // the last pass's grid back first; its light subpaths' arrays are
+                               // traced into again
     pass.index = k;
     pass.seed = settings.seed;
     pass.radius = pass_radius(r1_, alpha_, k);
-    // Merging weighs each photon by its light subpath's densities; photon mapping needs none.
-    pass.paths = trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
-                               options_.paths.roulette_after, settings.threads,
-                               options_.method == PhotonMethod::VertexMerging);
+    // vcm joins the light subpaths' vertices and weighs each photon by them; photon mapping
+    // needs only the photons.
+    const bool merging = options_.method == PhotonMethod::VertexMerging;
+    trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
+                  options_.paths.roulette_after, settings.threads, merging, pass.paths);
     rays_ += pass.paths.rays;
+    size_t bytes = pass.paths.bytes();
+    if (merging) {
+        const double eta = static_cast<double>(std::max(pass.paths.count, 1)) * kPi *
+                           pass.radius * pass.radius;
+        weigh_photons(b_, pass.paths, eta, settings.threads);
+    }
     pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
-    const size_t bytes = pass.bytes();
+    bytes = std::max(bytes, pass.bytes());  // the most held at once (the grid copies photons)
     if (bytes > options_.max_photon_mb * 1048576.0) {
         pass = PhotonPass{};  // nothing of a refused pass is kept, or reused
         throw InputError("command line", 0, "--max-photon-mb",
@@ -147,17 +156,32 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     last_pass_ = std::max(last_pass_, k);
 }
 
-Color PhotonMappingModel::sample(const Ray& ray, Rng& rng, std::span<Color> layers,
-                                 std::vector<Splat>& splats) const {
-    if (!joins(options_.method)) return photon_mapping(b_, pass_, ray, rng, options_, layers);
-    return connect_and_merge(ray, rng, layers, splats);
+Color PhotonMappingModel::sample(const Ray&, Rng&, std::span<Color>, std::vector<Splat>&) const {
+    throw std::logic_error("lesson 6 samples pass by pass: sample_in_pass");
 }
 
-Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, std::span<Color> layers,
+Color PhotonMappingModel::sample_in_pass(const Ray& ray, Rng& rng, uint32_t pixel,
+                                         std::span<Color> layers,
+                                         std::vector<Splat>& splats) const {
+    if (!joins(options_.method)) return photon_mapping(b_, pass_, ray, rng, options_, layers);
+    return connect_and_merge(ray, rng, pixel, layers, splats);
+}
+
+Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, uint32_t pixel,
+                                            std::span<Color> layers,
                                             std::vector<Splat>& splats) const {
-    thread_local std::vector<Vertex> camera, light;
-    trace_subpaths(b_, ray, rng, options_.paths, camera, light);
     const bool merging = options_.method == PhotonMethod::VertexMerging;
+    thread_local std::vector<Vertex> camera, own_light;
+    std::span<const Vertex> light;
+    if (merging) {
+        // The pass's light subpath of this pixel's index (its photons are the pass's too).
+        const int longest = options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
+        camera_subpath(b_, ray, rng, longest + 1, options_.paths.roulette_after, camera);
+        light = pass_.paths.subpath(pixel);
+    } else {
+        trace_subpaths(b_, ray, rng, options_.paths, camera, own_light);  // lesson 5's
+        light = own_light;
+    }
     const double eta = merging ? static_cast<double>(std::max(pass_.paths.count, 1)) * kPi *
                                      pass_.radius * pass_.radius
                                : 0.0;
@@ -173,7 +197,7 @@ Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, std::span<
                           if (!layers.empty()) layers[0] += contribution;
                       });
     if (merging) {
-        const Color merged = merges(b_, pass_, camera, options_);
+        const Color merged = merges(pass_, camera, options_);
         L += merged;
         if (!layers.empty()) layers[1] += merged;
     }

@@ -24,7 +24,9 @@
 //   bpt  vcm without merging: lesson 5 itself, bit for bit.
 // Pass k's photons come from N = width x height light subpaths drawn from (seed, k, subpath)
 // (photons.h), traced before the pass (begin_pass), so the image is the same for any number of
-// threads and any split of the passes across parts of a render (docs/farm.md).
+// threads and any split of the passes across parts of a render (docs/farm.md). vcm joins each
+// pixel's camera subpath to the pass's light subpath of the pixel's index, as Georgiev et al.
+// do: one set of light subpaths serves the joins and the merges (bpt traces its own, as lesson 5).
 #pragma once
 
 #include <cstdint>
@@ -81,19 +83,28 @@ struct PhotonPass {
 Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& ray, Rng& rng,
                      const PhotonOptions& options, std::span<Color> layers);
 
-// The merges of a camera subpath with the pass's photons (vcm): the sum over every vertex
-// z_{t-1} (t >= 2) that scatters by a non-delta BSDF and every photon within r of it of
+// Vertex connection and merging's step after tracing a pass: each photon's light side of the
+// merge's weight (merge_light_side, mis.h, at eta = N pi r^2), computed once, from its light
+// subpath's vertices; the photons no merge can use (their weight is 0) are left out.
+void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads);
+
+// The merges of a camera subpath with the pass's (weighed) photons (vcm): the sum over every
+// vertex z_{t-1} (t >= 2) that scatters by a non-delta BSDF and every photon within r of it of
 //   w_merge (1 / N) K f(z) beta_L beta_C,
-// w_merge from mis.h with eta = N pi r^2.
-Color merges(const Bidir& b, const PhotonPass& pass, std::span<const Vertex> camera,
+// w_merge from mis.h with eta = N pi r^2, its camera side computed once per vertex.
+Color merges(const PhotonPass& pass, std::span<const Vertex> camera,
              const PhotonOptions& options);
 
 // Lesson 6 as a model the render loop runs. `scene` must outlive it.
 class PhotonMappingModel final : public Model {
 public:
     PhotonMappingModel(const Scene& scene, const PhotonOptions& options);
+    // Lesson 6 renders pass by pass (its photons are the pass's): sample() is refused
+    // (std::logic_error), sample_in_pass() is the sample.
     Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
+    Color sample_in_pass(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
+                         std::vector<Splat>& splats) const override;
     void begin_pass(int sample_index, const RenderSettings& settings) const override;
     uint64_t pass_rays() const override { return rays_; }
     void report(Report& report) const override;
@@ -102,7 +113,7 @@ public:
 
 private:
     void add_what_it_misses(const Scene& scene);
-    Color connect_and_merge(const Ray& ray, Rng& rng, std::span<Color> layers,
+    Color connect_and_merge(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                             std::vector<Splat>& splats) const;
 
     LightSampler lights_;

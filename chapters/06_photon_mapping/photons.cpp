@@ -6,9 +6,20 @@
 
 namespace lessons {
 
+std::span<const Vertex> LightPaths::subpath(size_t j) const {
+    for (const Part& part : parts)
+        if (j >= part.first && j - part.first + 1 < part.start.size()) {
+            const size_t i = j - part.first;
+            return {part.vertices.data() + part.start[i], part.start[i + 1] - part.start[i]};
+        }
+    return {};
+}
+
 size_t LightPaths::bytes() const {
-    return vertices.capacity() * sizeof(Vertex) + start.capacity() * sizeof(uint32_t) +
-           photons.capacity() * sizeof(Photon);
+    size_t bytes = photons.capacity() * sizeof(Photon);
+    for (const Part& part : parts)
+        bytes += part.vertices.capacity() * sizeof(Vertex) + part.start.capacity() * sizeof(uint32_t);
+    return bytes;
 }
 
 namespace {
@@ -35,49 +46,56 @@ Photon photon_at(const Vertex& v, uint32_t path, uint32_t vertex) {
 
 }  // namespace
 
-LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
-                         int roulette_after, int threads, bool keep_vertices) {
+void trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
+                   int roulette_after, int threads, bool keep_vertices, LightPaths& out) {
     const size_t n = count > 0 ? static_cast<size_t>(count) : 0;
-    // One part per thread, each a contiguous range of subpaths with arrays of its own.
-    std::vector<LightPaths> parts(static_cast<size_t>(part_count(n, threads, 256)));
-    parallel_parts(n, threads, 256, [&](size_t begin, size_t end, int part) {
-        LightPaths& out = parts[static_cast<size_t>(part)];
+    // One part per thread, each a contiguous range of subpaths with arrays of its own (the last
+    // pass's, cleared: their memory is reused).
+    const size_t part_total = static_cast<size_t>(part_count(n, threads, 256));
+    out.parts.resize(part_total);
+    std::vector<std::vector<Photon>> photons(part_total);
+    std::vector<uint64_t> rays(part_total, 0);
+    parallel_parts(n, threads, 256, [&](size_t begin, size_t end, int index) {
+        LightPaths::Part& part = out.parts[static_cast<size_t>(index)];
+        part.first = begin;
+        part.vertices.clear();
+        part.start.clear();
+        std::vector<Photon>& own = photons[static_cast<size_t>(index)];
         const uint64_t rays_before = rays_traced_by_this_thread();
         std::vector<Vertex> path;
         for (size_t j = begin; j < end; ++j) {
             Rng rng(seed ^ kPhotonSeed, static_cast<uint64_t>(iteration), j);
             light_subpath(b, rng, max_vertices, roulette_after, path);
-            out.start.push_back(static_cast<uint32_t>(out.vertices.size()));
             for (size_t i = 1; i < path.size(); ++i)
                 if (leaves_photon(path[i]))
-                    out.photons.push_back(
+                    own.push_back(
                         photon_at(path[i], static_cast<uint32_t>(j), static_cast<uint32_t>(i)));
-            if (keep_vertices) out.vertices.insert(out.vertices.end(), path.begin(), path.end());
+            if (keep_vertices) {
+                part.start.push_back(static_cast<uint32_t>(part.vertices.size()));
+                part.vertices.insert(part.vertices.end(), path.begin(), path.end());
+            }
         }
-        out.rays = rays_traced_by_this_thread() - rays_before;
+        if (keep_vertices) part.start.push_back(static_cast<uint32_t>(part.vertices.size()));
+        rays[static_cast<size_t>(index)] = rays_traced_by_this_thread() - rays_before;
     });
+    if (!keep_vertices) out.parts.clear();
 
-    // The parts in order: subpath j's vertices start where the parts before it ended.
-    LightPaths all;
-    all.count = static_cast<int>(n);
-    size_t vertices = 0, photons = 0;
-    for (const LightPaths& part : parts) {
-        all.rays += part.rays;
-        vertices += part.vertices.size();
-        photons += part.photons.size();
+    // The photons of the parts in order.
+    out.count = static_cast<int>(n);
+    out.rays = 0;
+    out.photons.clear();
+    for (size_t k = 0; k < part_total; ++k) {
+        out.rays += rays[k];
+        out.photons.insert(out.photons.end(), photons[k].begin(), photons[k].end());
     }
-    all.vertices.reserve(vertices);
-    all.photons.reserve(photons);
-    all.start.reserve(n + 1);
-    for (LightPaths& part : parts) {
-        const uint32_t offset = static_cast<uint32_t>(all.vertices.size());
-        for (const uint32_t s : part.start) all.start.push_back(offset + s);
-        all.vertices.insert(all.vertices.end(), part.vertices.begin(), part.vertices.end());
-        all.photons.insert(all.photons.end(), part.photons.begin(), part.photons.end());
-        part = LightPaths{};  // its memory back before the next part is copied
-    }
-    all.start.push_back(static_cast<uint32_t>(all.vertices.size()));
-    return all;
+}
+
+LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
+                         int roulette_after, int threads, bool keep_vertices) {
+    LightPaths paths;
+    trace_photons(b, seed, iteration, count, max_vertices, roulette_after, threads, keep_vertices,
+                  paths);
+    return paths;
 }
 
 }  // namespace lessons

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "photon_map.h"
@@ -29,36 +30,50 @@ namespace lessons {
 
 // One iteration's light subpaths, their photons, and the memory they hold.
 struct LightPaths {
-    // Every subpath's vertices, subpath after subpath: subpath j is
-    // vertices[start[j] .. start[j + 1]) (y_0 first; empty when its light starts none).
-    std::vector<Vertex> vertices;
-    std::vector<uint32_t> start;  // count + 1 offsets
-    // The photons, in subpath order and, within one, vertex order. A photon's vertex is
-    // vertices[start[photon.path] + photon.vertex].
+    // The subpaths in the parts they were traced in (one per thread: a contiguous range of
+    // subpaths each, kept where it was made rather than copied into one array). A part's subpath
+    // i is vertices[start[i] .. start[i + 1]) (y_0 first; empty when its light starts none).
+    struct Part {
+        size_t first = 0;  // the index of its first subpath
+        std::vector<Vertex> vertices;
+        std::vector<uint32_t> start;  // its subpaths + 1 offsets
+    };
+    std::vector<Part> parts;  // empty when the vertices were not kept
+    // The photons, in subpath order and, within one, vertex order.
     std::vector<Photon> photons;
     int count = 0;      // N, the number of light subpaths traced (those that started none included)
     uint64_t rays = 0;  // rays traced to make them
 
-    const Vertex& vertex_of(const Photon& photon) const {
-        return vertices[start[photon.path] + photon.vertex];
-    }
-    // Bytes held by the three arrays (their capacity).
+    // Subpath j's vertices, y_0 first (empty when its light starts none, or when the vertices
+    // were not kept).
+    std::span<const Vertex> subpath(size_t j) const;
+    // The vertex a photon lies on (the vertices must have been kept).
+    const Vertex& vertex_of(const Photon& photon) const { return subpath(photon.path)[photon.vertex]; }
+    // Bytes held by the arrays (their capacity).
     size_t bytes() const;
 };
 
 // The seed of the photons' random numbers: iteration k's subpath j draws from
 // Rng(seed ^ kPhotonSeed, k, j) (sampling/rng.h), a stream of its own for each (seed, k, j)
-// and apart from the camera's, which draw from Rng(seed, pixel, sample). ("photons" in ASCII.)
+// and apart from the camera's, which draw from Rng(seed, pixel, sample). They are independent
+// (PCG32) whatever the --sampler: a randomised Kronecker sequence keyed per subpath would move
+// each light subpath's numbers in lockstep with its pixel's camera numbers of the same
+// dimension from pass to pass (the same alpha_d), which the joins of vcm pair up; measured on
+// the Cornell box, that raised vcm's error by a fifth. ("photons" in ASCII.)
 inline constexpr uint64_t kPhotonSeed = 0x70686f746f6e73ULL;
 
-// The `count` light subpaths of iteration `iteration` and their photons. Subpath j draws from
+// The `count` light subpaths of iteration `iteration` and their photons, into `out` (whose
+// arrays are reused: a render traces into the same memory every pass). Subpath j draws from
 // Rng(seed ^ kPhotonSeed, iteration, j) and is light_subpath(b, rng, max_vertices,
 // roulette_after) (y_0 counted among max_vertices; Russian roulette after roulette_after
 // bounces, < 0 never). Traced on `threads` threads (0: every hardware thread), each a contiguous
-// range of subpaths, the ranges concatenated in order: as every subpath's random numbers depend
+// range of subpaths, the photons concatenated in order: as every subpath's random numbers depend
 // on its index alone, the result is the same bits for any number of threads.
-// With keep_vertices false, only the photons are kept (LightPaths::vertices stays empty, and
-// vertex_of may not be asked): photon mapping reads nothing else.
+// With keep_vertices false, only the photons are kept (LightPaths::parts stays empty, and
+// subpath and vertex_of may not be asked): photon mapping reads nothing else.
+void trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
+                   int roulette_after, int threads, bool keep_vertices, LightPaths& out);
+// The same into a new LightPaths.
 LightPaths trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int max_vertices,
                          int roulette_after, int threads = 0, bool keep_vertices = true);
 

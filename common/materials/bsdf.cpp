@@ -210,6 +210,11 @@ Bsdf Bsdf::seen_from(const Vec3& wo) const {
     return b;
 }
 
+float Bsdf::pdf_seen_from(const Vec3& wo, const Vec3& wi) const {
+    const bool fall_back = may_fall_back_ && glm::dot(wo, n_interpolated_) <= 0.0f;
+    return fall_back == fell_back_ ? pdf(wo, wi) : seen_from(wo).pdf(wo, wi);
+}
+
 bool Bsdf::is_delta() const {
     return std::holds_alternative<PerfectMirror>(lobe_) ||
            std::holds_alternative<SmoothDielectric>(lobe_);

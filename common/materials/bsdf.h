@@ -98,6 +98,9 @@ public:
     // BSDF was made for. The scene's BSDF at a path vertex is the one seen from the camera's
     // side; lesson 5's light subpaths arrive from the other side and ask for it.
     Bsdf seen_from(const Vec3& wo) const;
+    // seen_from(wo).pdf(wo, wi), the same bits, without a copy of the BSDF where wo sees the
+    // one it was made for (the weights of lessons 5 and 6 ask for many).
+    float pdf_seen_from(const Vec3& wo, const Vec3& wi) const;
 
     bool is_delta() const;
     // |cos(theta)| of a world direction against the shading normal.

@@ -32,6 +32,15 @@ public:
     virtual Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
                          std::vector<Splat>& splats) const = 0;
 
+    // A splatting model's sample in a pass, as the pass-by-pass loop asks for it: sample() (by
+    // default), told the row-major index of the pixel whose sample it is, for a model that gives
+    // each pixel something of the pass's own (lesson 6's vcm: the pass's light subpath of that
+    // index). Every pixel of the image has one sample in each pass.
+    virtual Color sample_in_pass(const Ray& ray, Rng& rng, uint32_t /*pixel*/,
+                                 std::span<Color> layers, std::vector<Splat>& splats) const {
+        return sample(ray, rng, layers, splats);
+    }
+
     // Whether sample() splats: then the render loop goes one pass per sample index, so that the
     // splats of a pass land in a fixed order (render_splatting, render/render.h).
     bool splats = false;

@@ -51,8 +51,9 @@ RenderStats ProgressiveFilms::render_into(std::vector<Film>& films, int end,
         const uint64_t pass_rays = m.pass_rays();
         RenderStats stats = render_splatting(
             scene_.camera, films, s,
-            [&m](const Ray& ray, Rng& rng, std::span<Color> layers, std::vector<Splat>& splats) {
-                return m.sample(ray, rng, layers, splats);
+            [&m](const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
+                 std::vector<Splat>& splats) {
+                return m.sample_in_pass(ray, rng, pixel, layers, splats);
             },
             begin, stop, [&m, &s](int k) { m.begin_pass(k, s); });
         stats.rays += m.pass_rays() - pass_rays;  // what the passes' preparation traced

@@ -203,7 +203,7 @@ RenderStats render_splatting(const Camera& camera, std::span<Film> films,
                 Rng rng = sample_rng(settings, pixel, s);
                 const Ray ray = camera_ray(camera, settings, window, x, y, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
-                pass[0][pixel] = radiance(ray, rng, layers, splats);
+                pass[0][pixel] = radiance(ray, rng, static_cast<uint32_t>(pixel), layers, splats);
                 for (size_t k = 0; k < layer_count; ++k) pass[1 + k][pixel] = layers[k];
             });
             progress.advance(pixels);

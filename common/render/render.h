@@ -43,9 +43,11 @@ struct Splat {
     uint32_t film;   // 0: the image; 1 + k: layer k
     Color value;
 };
-// A model that splats: it returns the radiance of its own pixel sample, adds each layer's share
-// into `layers` (zeroed before each call), and appends light for other pixels to `splats`.
-using SplattingRadianceFn = std::function<Color(const Ray& ray, Rng& rng, std::span<Color> layers,
+// A model that splats: it returns the radiance of its own pixel sample (of pixel `pixel`, the
+// row-major index), adds each layer's share into `layers` (zeroed before each call), and appends
+// light for other pixels to `splats`.
+using SplattingRadianceFn = std::function<Color(const Ray& ray, Rng& rng, uint32_t pixel,
+                                                std::span<Color> layers,
                                                 std::vector<Splat>& splats)>;
 
 struct RenderSettings {
