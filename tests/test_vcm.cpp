@@ -177,6 +177,50 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
                                        etas_about_the_default(pair.scene));
 }
 
+TEST(Vcm, AWeighedPhotonGivesItsMergeTheWeightThatSumsToOneWithTheJoins) {
+    // merges() does not walk a merge's whole path: it reads the light side of the weight from
+    // the photon (weigh_photons stores it as two floats, the roots of its terms), the camera
+    // side from its vertex (computed once per vertex), and the two densities of scattering at
+    // the merge from the photon's arrival direction (mis.h, "the same weight in two halves").
+    // On every merge of lesson 5's given paths in the room and of the caustics seen through a
+    // mirror or a glass ball, at etas from 1e-3 to 1e3 of the default, that gives merge_weight's
+    // value: the one Vcm.WeightsOfEveryJoinAndMergeSumToOne checks against every join's.
+    const test::Room room = test::room_with_every_kind_of_vertex();
+    const LightSampler lights(room.scene);
+    const Bidir b{room.scene, lights, room.scene.camera, room.scene.width, room.scene.height};
+    std::vector<test::GivenPath> paths = test::paths_in_the_room(room);
+    for (const test::GivenPath& path : caustics_seen_through_delta_vertices(room))
+        paths.push_back(path);
+    int merges = 0;
+    for (const double eta : etas_about_the_default(room.scene)) {
+        for (const test::GivenPath& path : paths) {
+            const std::optional<GivenSubpaths> sub = subpaths_along(b, path.light, path.points);
+            ASSERT_TRUE(sub) << path.name;
+            if (path.light.infinite || !(sub->light[0].pdf_fwd > 0.0f)) continue;
+            const int n = static_cast<int>(path.points.size()) + 2;
+            for (int j = 1; j <= n - 2; ++j) {
+                const int t = n - j;
+                const std::span<const Vertex> camera = std::span<const Vertex>(sub->camera).first(t);
+                if (camera[t - 1].bsdf->is_delta()) continue;  // no photon is left there
+                const std::span<const Vertex> light = std::span<const Vertex>(sub->light).first(j);
+                const Vertex& landed = sub->light[j];
+                const float expected = merge_weight(b, light, j, landed, camera, t, eta);
+                Photon photon;
+                photon.p = landed.p;
+                photon.wi = landed.si.wo;
+                photon.n = landed.si.n_geo;
+                store_light_side(photon, merge_light_side(b, light, landed, eta));
+                const float got =
+                    merge_weight(photon, merge_camera_side(camera, t, eta), *camera[t - 1].bsdf);
+                EXPECT_NEAR(got, expected, 1e-5f + 1e-5f * expected)
+                    << path.name << ", merge at " << j << ", eta " << eta;
+                ++merges;
+            }
+        }
+    }
+    EXPECT_GT(merges, 30);
+}
+
 namespace {
 
 // Whether two images hold the same floats, bit for bit.

@@ -268,10 +268,11 @@ MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light,
         },
         sum);
     side.possible = true;
-    side.per_reverse2 = sum / (merged * merged);
-    // Strategy s itself (unless x_{s-1} is a mirror or glass): p_s / p_merge(s) = own / merged.
-    const double own = divisor(x0_density(s));
-    side.own_join = q.delta ? 0.0 : (own / merged) * (own / merged);
+    side.per_reverse2 = sum / merged / merged;
+    // Strategy s itself (unless x_{s-1} is a mirror or glass, or strategy s cannot pick x_0):
+    // p_s / p_merge(s) = own / merged.
+    const double own = x0_density(s);
+    side.own_join = q.delta || !(own > 0.0) ? 0.0 : (own / merged) * (own / merged);
     return side;
 }
 

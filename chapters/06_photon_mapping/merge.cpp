@@ -18,18 +18,36 @@
 
 namespace lessons {
 
+void store_light_side(Photon& photon, const MergeLightSide& side) {
+    // A float holds each term's root; one too large for it is as good as infinite, but must
+    // stay finite so that a density of 0 still cancels it.
+    auto root = [](double v) {
+        const double r = std::sqrt(v);
+        return static_cast<float>(r < double{FLT_MAX} ? r : double{FLT_MAX});  // inf, NaN: max
+    };
+    photon.merge_reverse_root = root(side.per_reverse2);
+    photon.merge_own_root = root(side.own_join);
+}
+
+MergeLightSide light_side_of(const Photon& photon) {
+    const double r = photon.merge_reverse_root, o = photon.merge_own_root;
+    return {true, r * r, o * o};
+}
+
+float merge_weight(const Photon& p, const MergeCameraSide& camera, const Bsdf& bsdf) {
+    const Vec3& to_camera = camera.towards_camera;
+    return merge_weight(light_side_of(p), camera, bsdf.pdf_seen_from(to_camera, p.wi),
+                        bsdf.pdf_seen_from(p.wi, to_camera));
+}
+
 void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads) {
     std::vector<uint8_t> keep(paths.photons.size(), 0);
-    // A float holds the terms; one too large for it is as good as infinite, but must stay
-    // finite so that a density of 0 still cancels it.
-    auto to_float = [](double v) { return static_cast<float>(std::min(v, double{FLT_MAX})); };
     parallel_parts(paths.photons.size(), threads, 1024, [&](size_t begin, size_t end, int) {
         for (size_t i = begin; i < end; ++i) {
             Photon& p = paths.photons[i];
             const std::span<const Vertex> path = paths.subpath(p.path);
             const MergeLightSide side = merge_light_side(b, path.first(p.vertex), path[p.vertex], eta);
-            p.merge_per_reverse2 = to_float(side.per_reverse2);
-            p.merge_own_join = to_float(side.own_join);
+            store_light_side(p, side);
             keep[i] = side.possible;
         }
     });
@@ -50,17 +68,13 @@ Color merges(const PhotonPass& pass, std::span<const Vertex> camera,
         if (z.type != VertexType::Surface || !z.connectible() || z.bsdf->is_delta()) continue;
         const MergeCameraSide side = merge_camera_side(camera, t, eta);  // once per vertex
         if (!side.possible()) continue;
-        const Vec3& to_camera = side.towards_camera;
         Color sum(0.0f);
         pass.grid.for_each_within(z.p, [&](const Photon& p) {
             if (static_cast<int>(p.vertex) + t - 1 > longest) return;
             const std::optional<Color> term =
                 photon_term(p, z.si, *z.bsdf, z.si.wo, options.kernel, pass.radius);
             if (!term || is_black(*term)) return;
-            const MergeLightSide light{true, p.merge_per_reverse2, p.merge_own_join};
-            const float w = merge_weight(light, side, z.bsdf->pdf_seen_from(to_camera, p.wi),
-                                         z.bsdf->pdf_seen_from(p.wi, to_camera));
-            sum += w * *term;
+            sum += merge_weight(p, side, *z.bsdf) * *term;
         });
         L += z.beta * sum;
     }

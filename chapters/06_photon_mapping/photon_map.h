@@ -46,8 +46,9 @@ struct Photon {
     uint32_t path = 0;    // which light subpath of its iteration (photons.h)
     uint32_t vertex = 0;  // which vertex i of that subpath (the light's path has i segments)
     // Vertex connection and merging: the light side of the merge's weight, computed once per
-    // photon (weigh_photons, photon_mapping.h; MergeLightSide in lesson 5's mis.h).
-    float merge_per_reverse2 = 0.0f, merge_own_join = 0.0f;
+    // photon (weigh_photons, photon_mapping.h): the square roots of MergeLightSide's
+    // per_reverse2 and own_join (lesson 5's mis.h), so that a float holds their range.
+    float merge_reverse_root = 0.0f, merge_own_root = 0.0f;
 };
 
 // A hashed uniform grid over photons for queries of one fixed radius r.

@@ -124,8 +124,7 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     PhotonPass& pass = pass_;
     pass.grid = PhotonGrid{};  // the last pass's grid back first; its light subpaths' arrays are
                                // traced into again
-    pass.index = k;
-    pass.seed = settings.seed;
+    pass.index = -1;           // no pass until this one is whole
     pass.radius = pass_radius(r1_, alpha_, k);
     // vcm joins the light subpaths' vertices and weighs each photon by them; photon mapping
     // needs only the photons.
@@ -133,14 +132,13 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
                   options_.paths.roulette_after, settings.threads, merging, pass.paths);
     rays_ += pass.paths.rays;
-    size_t bytes = pass.paths.bytes();
     if (merging) {
         const double eta = static_cast<double>(std::max(pass.paths.count, 1)) * kPi *
                            pass.radius * pass.radius;
         weigh_photons(b_, pass.paths, eta, settings.threads);
     }
     pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
-    bytes = std::max(bytes, pass.bytes());  // the most held at once (the grid copies photons)
+    const size_t bytes = pass.bytes();  // the subpaths, the photons and the grid's copy of them
     if (bytes > options_.max_photon_mb * 1048576.0) {
         pass = PhotonPass{};  // nothing of a refused pass is kept, or reused
         throw InputError("command line", 0, "--max-photon-mb",
@@ -149,6 +147,8 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
                              " MiB, over the cap of " + number(options_.max_photon_mb) +
                              " MiB (a smaller image, a shorter --max-depth, or a larger cap)");
     }
+    pass.index = k;
+    pass.seed = settings.seed;
     most_bytes_ = std::max(most_bytes_, bytes);
     photons_ += pass.paths.photons.size();
     ++passes_;

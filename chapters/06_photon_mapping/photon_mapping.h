@@ -36,6 +36,7 @@
 
 #include "bidirectional.h"
 #include "kernel.h"
+#include "mis.h"
 #include "photon_map.h"
 #include "photons.h"
 #include "render/model.h"
@@ -87,6 +88,13 @@ Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& ray, Rng
 // merge's weight (merge_light_side, mis.h, at eta = N pi r^2), computed once, from its light
 // subpath's vertices; the photons no merge can use (their weight is 0) are left out.
 void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads);
+// The light side as a weighed photon holds it (two floats: the roots of its terms), and back.
+void store_light_side(Photon& photon, const MergeLightSide& side);
+MergeLightSide light_side_of(const Photon& photon);
+// The weight of merging weighed photon p at the camera vertex of `camera` (its camera side,
+// merge_camera_side), whose BSDF is `bsdf`: merge_weight with the two densities of scattering
+// there, the photon's arrival direction p.wi standing for the direction towards x_{s-1}.
+float merge_weight(const Photon& p, const MergeCameraSide& camera, const Bsdf& bsdf);
 
 // The merges of a camera subpath with the pass's (weighed) photons (vcm): the sum over every
 // vertex z_{t-1} (t >= 2) that scatters by a non-delta BSDF and every photon within r of it of

@@ -16,9 +16,9 @@ std::span<const Vertex> LightPaths::subpath(size_t j) const {
 }
 
 size_t LightPaths::bytes() const {
-    size_t bytes = photons.capacity() * sizeof(Photon);
+    size_t bytes = photons.size() * sizeof(Photon);
     for (const Part& part : parts)
-        bytes += part.vertices.capacity() * sizeof(Vertex) + part.start.capacity() * sizeof(uint32_t);
+        bytes += part.vertices.size() * sizeof(Vertex) + part.start.size() * sizeof(uint32_t);
     return bytes;
 }
 
@@ -84,6 +84,9 @@ void trace_photons(const Bidir& b, uint64_t seed, int iteration, int count, int 
     out.count = static_cast<int>(n);
     out.rays = 0;
     out.photons.clear();
+    size_t total = 0;
+    for (const std::vector<Photon>& own : photons) total += own.size();
+    out.photons.reserve(total);
     for (size_t k = 0; k < part_total; ++k) {
         out.rays += rays[k];
         out.photons.insert(out.photons.end(), photons[k].begin(), photons[k].end());

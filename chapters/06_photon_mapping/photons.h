@@ -49,7 +49,8 @@ struct LightPaths {
     std::span<const Vertex> subpath(size_t j) const;
     // The vertex a photon lies on (the vertices must have been kept).
     const Vertex& vertex_of(const Photon& photon) const { return subpath(photon.path)[photon.vertex]; }
-    // Bytes held by the arrays (their capacity).
+    // Bytes of the subpaths and photons (the arrays' sizes: the same for any number of threads,
+    // while their spare capacity is not).
     size_t bytes() const;
 };
 
