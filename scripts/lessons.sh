@@ -48,6 +48,16 @@ field() { sed -n "s/^  \"$2\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$1"
 list_field() { sed -n "s/^  \"$2\": \[\(.*\)\],\{0,1\}$/\1/p" "$1" | sed 's/", "/; /g; s/^"//; s/"$//'; }
 # A field of compare's one-line JSON.
 json_number() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1"; }
+# A run's converged error from its compare line: bias^2 with its standard error, or "0 within
+# noise" when it lies within two standard errors of 0 (an unbiased run's, of either sign).
+converged_error() {
+    awk -v b="$(json_number "$1" bias2)" -v se="$(json_number "$1" bias2_se)" 'BEGIN {
+        if (b == "") { print "?"; exit }
+        if (se == "") se = 0
+        if (b < 0 ? -b <= 2 * se : b <= 2 * se) printf "0 within noise (%.3g ± %.2g)\n", b, se
+        else printf "%.3g ± %.2g\n", b, se
+    }'
+}
 
 # Runs: name | lesson | extra flags | label on the chart and in the table. First every lesson of
 # the registry (chapters/lessons.txt) with its defaults, named lessonN; then the estimators the
@@ -129,7 +139,7 @@ for entry in "${SCENES[@]}"; do
         "$BIN/compare" "$dir/$name.exr" "$reference" --out "$dir/$name" \
             --variance "$dir/${name}_variance.exr" \
             --reference-variance "$dir/reference_variance.exr" > "$dir/$name.compare.json" 2> /dev/null
-        bias2="$(json_number "$dir/$name.compare.json" bias2)"
+        bias2="$(converged_error "$dir/$name.compare.json")"
         # A stratified run's per-pixel variance assumes independent samples: it overstates the
         # noise, so MSE minus it says nothing about the bias.
         case "$flags" in *"--sampler independent"*) ;; *) bias2="n/a (stratified)" ;; esac
@@ -196,8 +206,9 @@ samples (<code>--sampler kronecker</code>, the line \"4 stratified\"): the same 
 unbiased, whose error falls faster, because its samples cannot clump.</p>
 <h3>Converged error: what more time cannot fix</h3>
 <p>MSE at the budget minus the variances of the run and of the reference (both measured per pixel):
-the squared bias, the MSE each run would converge to. Near 0 (within noise, either sign) for an
-unbiased estimator; the model's own reasons beside it.</p>
+the squared bias, the MSE each run would converge to, with its standard error (the pixels taken
+as independent). \"0 within noise\" where it lies within two standard errors of 0, as an unbiased
+estimator's does, of either sign; the model's own reasons beside it.</p>
 <table class=\"bias\"><tr><th>run</th><th>converged MSE (bias&sup2;)</th><th>MSE at ${BUDGET} s</th><th>why (the model's report)</th></tr>$bias_rows</table>
 <h3>Figures</h3>
 <table><tr><th>run</th><th>seconds</th><th>spp</th><th>Mrays/s</th><th>MSE</th><th>relMSE</th><th>efficiency 1/(MSE s)</th></tr>$rows</table>

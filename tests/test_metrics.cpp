@@ -1,8 +1,13 @@
 // Error metrics against hand-computed values.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
 #include "io/input_error.h"
 #include "render/metrics.h"
+#include "sampling/rng.h"
 
 using namespace lessons;
 
@@ -89,4 +94,40 @@ TEST(Metrics, TheWholeMeansNoiseWeighsTheBlocksByTheirLight) {
     EXPECT_NEAR(m.mean_ratio_noise, whole, 1e-6);
     EXPECT_NEAR(m.worst_ratio, 1.0, 1e-6);  // both blocks' means equal the reference's
     EXPECT_NEAR(m.block_ratio_noise, std::sqrt(0.5 * (0.01 * 0.01 + 0.2 * 0.2)), 1e-6);
+}
+
+TEST(Metrics, TheConvergedErrorIsZeroWithinItsStandardErrorForNoiseAndFindsABias) {
+    // An image of 64 x 64 pixels whose channels are the reference (0.5) plus Gaussian noise of a
+    // known variance per pixel (1e-3, 2e-3 or 3e-3), that variance as its variance image: bias2
+    // is 0 within three of its standard errors. The same noise about 0.5 + 0.05: bias2 is
+    // 0.05^2 within three standard errors, and far from 0 in them. (Fixed seed.)
+    const int w = 64, h = 64;
+    Image reference(w, h), variance(w, h), noisy(w, h), offset(w, h);
+    Rng rng(2024);
+    auto gaussian = [&] {
+        const double u1 = std::max(double(rng.uniform()), 1e-12), u2 = rng.uniform();
+        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+    };
+    for (size_t i = 0; i < reference.pixels.size(); ++i) {
+        const double v = 1e-3 * static_cast<double>(1 + i % 3);
+        reference.pixels[i] = Color(0.5f);
+        variance.pixels[i] = Color(static_cast<float>(v));
+        Color c;
+        for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(0.5 + std::sqrt(v) * gaussian());
+        noisy.pixels[i] = c;
+        offset.pixels[i] = c + Color(0.05f);
+    }
+    const ConvergedError unbiased = converged_error(noisy, reference, variance, nullptr);
+    EXPECT_NEAR(unbiased.noise_mse, 2e-3, 1e-6);  // the variances are floats
+    EXPECT_GT(unbiased.bias2_se, 0.0);
+    EXPECT_LE(std::fabs(unbiased.bias2), 3.0 * unbiased.bias2_se)
+        << unbiased.bias2 << " +- " << unbiased.bias2_se;
+    // The reference's own variance adds to the noise: the same image against a reference said
+    // to carry as much again has bias2 about -2e-3.
+    const ConvergedError doubled = converged_error(noisy, reference, variance, &variance);
+    EXPECT_NEAR(doubled.bias2, unbiased.bias2 - 2e-3, 1e-6);
+    const ConvergedError biased = converged_error(offset, reference, variance, nullptr);
+    EXPECT_NEAR(biased.bias2, 0.05 * 0.05, 3.0 * biased.bias2_se);
+    EXPECT_GT(biased.bias2, 10.0 * biased.bias2_se);
+    EXPECT_THROW(converged_error(noisy, Image(2, 2), variance, nullptr), std::invalid_argument);
 }

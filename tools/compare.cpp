@@ -86,13 +86,10 @@ struct Canvas {
     }
 };
 
-// The mean over pixels and channels of a variance image the size of `like`.
-double mean_value(const Image& variance, const std::string& path, const Image& like) {
+// A variance image must be the size of the image it belongs to.
+void check_size(const Image& variance, const std::string& path, const Image& like) {
     if (variance.width != like.width || variance.height != like.height)
         throw std::runtime_error(path + ": not the size of the image");
-    double sum = 0.0;
-    for (const Color& c : variance.pixels) sum += (double(c.x) + c.y + c.z) / 3.0;
-    return variance.pixels.empty() ? 0.0 : sum / static_cast<double>(variance.pixels.size());
 }
 
 std::string format_number(double v) {
@@ -122,7 +119,8 @@ void declare_options(CLI::App& app, Options& o) {
                    "it, \"bias2\" estimates the MSE the image converges to, its squared bias: "
                    "mse minus the mean variance of the image and of the reference (renders of "
                    "--sampler independent: a stratified sampler's variance image is not its "
-                   "error)");
+                   "error), with its standard error \"bias2_se\" (the pixels taken as "
+                   "independent)");
     app.add_option("--reference-variance", o.reference_variance_path,
                    "The reference's per-pixel variance of the mean, for bias2");
     app.add_option("--blocks", o.blocks,
@@ -159,14 +157,20 @@ double average_reference_halves(const Options& o, Image& reference, const Image&
     return reference_noise;
 }
 
-// With --variance: E[d^2] = bias^2 + Var(image) + Var(reference) per channel, for independent
-// renders: what is left after the variances is the error more samples cannot remove.
-void print_bias(const Options& o, const ErrorMetrics& m, const Image& image) {
-    double noise = mean_value(read_image(o.variance_path), o.variance_path, image);
-    if (!o.reference_variance_path.empty())
-        noise +=
-            mean_value(read_image(o.reference_variance_path), o.reference_variance_path, image);
-    std::printf(", \"noise_mse\": %.9g, \"bias2\": %.9g", noise, m.mse - noise);
+// With --variance: the error more samples cannot remove (converged_error, render/metrics.h).
+void print_bias(const Options& o, const Image& image, const Image& reference) {
+    const Image variance = read_image(o.variance_path);
+    check_size(variance, o.variance_path, image);
+    Image reference_variance;
+    if (!o.reference_variance_path.empty()) {
+        reference_variance = read_image(o.reference_variance_path);
+        check_size(reference_variance, o.reference_variance_path, image);
+    }
+    const ConvergedError c = converged_error(
+        image, reference, variance,
+        o.reference_variance_path.empty() ? nullptr : &reference_variance);
+    std::printf(", \"noise_mse\": %.9g, \"bias2\": %.9g, \"bias2_se\": %.3g", c.noise_mse,
+                c.bias2, c.bias2_se);
 }
 
 // With --second-half: the MSE less the reference's own noise.
@@ -210,7 +214,7 @@ void print_metrics(const Options& o, Image& image, Image& reference) {
     const ErrorMetrics m = compare_images(image, reference, o.image_path);
     std::printf("{\"mse\": %.9g, \"rmse\": %.9g, \"relmse\": %.9g, \"mae\": %.9g", m.mse, m.rmse,
                 m.relmse, m.mae);
-    if (!o.variance_path.empty()) print_bias(o, m, image);
+    if (!o.variance_path.empty()) print_bias(o, image, reference);
     if (!o.second_half.empty()) print_corrected(m, reference_noise);
     if (means) print_means(*means);
     std::printf("}\n");

@@ -1,11 +1,11 @@
 // Error metrics of an image against a reference (see metrics.h).
 #include "render/metrics.h"
 
-#include <cstdio>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include "io/input_error.h"
 
@@ -35,6 +35,32 @@ ErrorMetrics compare_images(const Image& image, const Image& reference, const st
     m.relmse = relative / n;
     m.mae = absolute / n;
     return m;
+}
+
+ConvergedError converged_error(const Image& image, const Image& reference, const Image& variance,
+                               const Image* reference_variance) {
+    for (const Image* other : {&reference, &variance, reference_variance})
+        if (other && (other->width != image.width || other->height != image.height))
+            throw std::invalid_argument("converged_error: the images differ in size");
+    ConvergedError out;
+    double sum = 0.0, sum2 = 0.0, noise = 0.0;
+    const size_t n = image.pixels.size();
+    for (size_t i = 0; i < n; ++i) {
+        const Color d = image.pixels[i] - reference.pixels[i];
+        Color v = variance.pixels[i];
+        if (reference_variance) v += reference_variance->pixels[i];
+        const double var = (double(v.x) + v.y + v.z) / 3.0;
+        const double e = (double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z) / 3.0 - var;
+        noise += var;
+        sum += e;
+        sum2 += e * e;
+    }
+    if (n == 0) return out;
+    out.noise_mse = noise / static_cast<double>(n);
+    out.bias2 = sum / static_cast<double>(n);
+    const double spread = n > 1 ? std::max(0.0, (sum2 - sum * out.bias2) / static_cast<double>(n - 1)) : 0.0;
+    out.bias2_se = std::sqrt(spread / static_cast<double>(n));
+    return out;
 }
 
 namespace {

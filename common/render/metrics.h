@@ -27,6 +27,19 @@ struct ErrorMetrics {
 ErrorMetrics compare_images(const Image& image, const Image& reference,
                             const std::string& what = "image");
 
+// The error more samples cannot remove, from one render and its per-pixel variance of the mean
+// (a lesson's --variance image; renders of independent samples): per channel E[d^2] = bias^2 +
+// Var(image) + Var(reference), so per pixel e = d^2 less both variances (the mean over the
+// channels) estimates its squared bias, and their mean, bias2, the image's (noise_mse: the mean of
+// the variances). bias2_se is its standard error, sd(e) / sqrt(pixels), the pixels taken as
+// independent: a bias2 within two of them of 0 is an unbiased run's, of either sign. The images
+// must have one size (else std::invalid_argument); reference_variance may be null.
+struct ConvergedError {
+    double noise_mse = 0.0, bias2 = 0.0, bias2_se = 0.0;
+};
+ConvergedError converged_error(const Image& image, const Image& reference, const Image& variance,
+                               const Image* reference_variance);
+
 // Image means against a reference's, whole and in square blocks: where two renderers (or two
 // estimators) differ systematically rather than by noise (scripts/cycles_compare.sh). A mean is
 // over a block's pixels and the three channels; a block is compared when the reference's mean

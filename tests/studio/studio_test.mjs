@@ -155,6 +155,23 @@ try {
   check(alive.ok(), 'the studio still answers after bad requests');
   await set('#pane1 .options input[data-flag="--max-depth"]', '');
 
+  // ---- lesson 6 in a pane, with its per-technique view ----
+  await set('#pane1 .lesson', '06_photon_mapping');
+  await page.waitForSelector('#pane1 .options input[data-flag="--techniques"]');
+  await set('#pane1 .options input[data-flag="--techniques"]', true);
+  s = await waitFor('lesson 6 renders with its techniques as layers', (x) =>
+    x.panes[1].lesson === '06_photon_mapping' && x.panes[1].spp >= 2 && (x.panes[1].layers || []).length === 3);
+  const techniques = s.panes[1].layers.map((l) => l.name).join(',');
+  check(techniques === 'connection,merging,light_tracing', `lesson 6's techniques are the pane's layers: ${techniques}`);
+  const shares = s.panes[1].layers.reduce((a, l) => a + l.share, 0);
+  check(Math.abs(shares - 1) < 1e-3, `lesson 6's techniques add up to its image: ${shares}`);
+  await page.waitForFunction(() => [...document.querySelectorAll('#pane1 .view option')].some((o) => o.value === 'layer:1'));
+  await set('#pane1 .view', 'layer:1');
+  await page.waitForFunction(() => window.studio.frames[1].length > 0);
+  check(await page.evaluate(() => document.querySelector('#pane1 .view option:checked').textContent) === 'merging',
+    'the pane shows the merging image');
+  await set('#pane1 .lesson', '04_rendering_equation');
+
   // ---- 40 reloads: renders do not pile up, memory stays flat ----
   await set('#spp', '1000000');
   await waitFor('long renders running again', (x) => x.panes.every((p) => p.params['--spp'] === '1000000' && p.state === 'rendering'));
