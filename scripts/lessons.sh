@@ -16,8 +16,8 @@
 #      flip/slider comparison, the error images, the chart, the converged-bias table and a table
 #      of the figures.
 # Usage: scripts/lessons.sh [--quick | --thorough]
-#   default: ~256 px images, 4 s per run, about 6 minutes on 2 cores once the references are
-#   cached (the first run renders them: 12 minutes more, measured at e999b45); --quick: tiny
+#   default: ~256 px images, 4 s per run, about 11 minutes on 2 cores once the references are
+#   cached (the first run renders them: about 6 minutes more, measured at 407484b); --quick: tiny
 #   images, 0.3 s per run, under a minute; --thorough: 512 px, 30 s per run.
 set -euo pipefail
 
@@ -118,9 +118,12 @@ for entry in "${SCENES[@]}"; do
         echo "lessons: $scene: reusing the reference ($REFERENCE_SPP spp, $ref_lesson)"
     else
         echo "lessons: $scene: rendering the reference ($REFERENCE_SPP spp, ${width}x${height}, $ref_lesson)"
+        # Its progress every 10%, with the time left (the lesson's own progress line), and any
+        # error it prints.
         "$BIN/$ref_lesson" --scene "scenes/$scene.toml" $size --spp "$REFERENCE_SPP" \
             --seed 1000003 --sampler independent --out "$dir/reference" --report "$dir/reference.json" \
-            --variance "$dir/reference_variance" --quiet
+            --variance "$dir/reference_variance" 2>&1 |
+            sed -u -n -e "s/^render: /lessons: $scene: reference: /p" -e '/error/p'
         echo "$key" > "$dir/reference.key"
     fi
 
