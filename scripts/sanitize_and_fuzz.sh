@@ -13,7 +13,7 @@ cmake --build "$SAN" --parallel "$(nproc)"
 cd "$SAN"
 # Leaks inside Debian's libraries (tinyexr's, on damaged files) are theirs: tests/lsan.supp.
 export LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp"
-for target in scene obj part gltf exr; do
+for target in scene obj part gltf exr hdr; do
     corpus="$(mktemp -d)"
     log="$(mktemp)"
     echo "fuzz_$target: ${FUZZ_SECONDS:-60} s from tests/fuzz/corpus_$target"

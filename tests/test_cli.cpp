@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "io/image.h"
 #include "io/report.h"
 #include "lesson_registry.h"
 
@@ -92,6 +93,42 @@ TEST(Cli, BadSceneExitsWithTwoAndOneLineAndWritesNothing) {
         << r.output;
     EXPECT_FALSE(fs::exists(dir / "img.exr"));
     EXPECT_FALSE(fs::exists(dir / "img.png"));
+}
+
+// A map with a few slightly negative texels renders, and every lesson prints one note naming it
+// with how many texels were set to 0 and the lowest value (docs/scene-format.md).
+TEST(Cli, AMapsSlightlyNegativeTexelsAreSetToZeroWithOneNote) {
+    const fs::path dir = fresh_dir("flawed_map");
+    lessons::Image map(8, 4);
+    for (lessons::Color& c : map.pixels) c = lessons::Color(0.4f, 0.5f, 0.6f);
+    map.at(2, 1).y = -0.004f;
+    map.at(6, 3).x = -0.0015f;
+    lessons::write_exr(map, (dir / "flawed.exr").string());
+    std::ofstream(dir / "s.toml") << "[image]\nwidth = 8\nheight = 6\n[camera]\n"
+                                     "position = [0, 0, -5]\nlook_at = [0, 0, 0]\nfov = 40\n"
+                                     "[materials.white]\ntype = \"diffuse\"\n"
+                                     "albedo = [0.5, 0.5, 0.5]\n[[shapes]]\ntype = \"sphere\"\n"
+                                     "material = \"white\"\ncenter = [0, 0, 0]\nradius = 1\n"
+                                     "[background]\nmap = \"flawed.exr\"\n";
+    const std::vector<std::string> names = lessons::test::registered_lesson_names();
+    ASSERT_GE(names.size(), 6u);
+    for (const std::string& lesson : names) {
+        const RunResult r = run(kBin + "/" + lesson + " --scene " + (dir / "s.toml").string() +
+                                " --spp 1 --out " + (dir / "img").string());
+        SCOPED_TRACE(lesson + ":\n" + r.output);
+        EXPECT_EQ(r.exit_code, 0);
+        int notes = 0;
+        std::istringstream lines(r.output);
+        for (std::string line; std::getline(lines, line);)
+            if (line.find("note: ") != std::string::npos &&
+                line.find("flawed.exr") != std::string::npos) {
+                ++notes;
+                EXPECT_NE(line.find(": 2 texel(s) with channels slightly below 0 (the lowest "
+                                    "-0.004;"),
+                          std::string::npos);
+            }
+        EXPECT_EQ(notes, 1);
+    }
 }
 
 TEST(Cli, WhittedFlagsAreCheckedAndDocumented) {

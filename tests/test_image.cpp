@@ -1,5 +1,8 @@
-// Image output: EXR round trip, the sRGB curve, atomic writes.
+// Image output: EXR round trip, the sRGB curve, atomic writes; Radiance .hdr input.
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
+
+#include <cmath>
 
 #include <cstdint>
 #include <cstring>
@@ -220,4 +223,134 @@ TEST(Film, MeanVarianceAndNonFiniteSamplesAreCountedNotAveraged) {
     EXPECT_EQ(film.inf_samples(), 1u);
     EXPECT_EQ(film.nan_pixels(), 1);
     EXPECT_EQ(film.inf_pixels(), 1);
+}
+
+// Radiance .hdr (RGBE) files (io/image_hdr.cpp), written here by stb_image_write.
+namespace {
+
+std::string write_hdr_file(const std::string& name, const Image& image) {
+    const std::string path = temp_path(name);
+    EXPECT_TRUE(stbi_write_hdr(path.c_str(), image.width, image.height, 3,
+                               reinterpret_cast<const float*>(image.pixels.data())));
+    return path;
+}
+
+Image varied_image(int w, int h) {
+    Image image(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            image.at(x, y) = Color(0.37f * x + 0.01f, 0.5f + 0.11f * y, 0.013f * (x + y)) *
+                             std::pow(10.0f, static_cast<float>(y % 5) - 2.0f);
+    image.at(1, 1) = Color(0.0f);           // black
+    image.at(2, 1) = Color(3e4f, 2e-3f, 0);  // a sun with a dim channel
+    return image;
+}
+
+std::vector<unsigned char> file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The InputError read_image throws for `path`, or "" if it read the file.
+std::string read_error(const std::string& path) {
+    try {
+        read_image(path);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+// RGBE keeps 8 bits of mantissa per channel with a shared exponent e, 2^(e-1) <= the largest
+// channel < 2^e: each channel within one unit, 2^(e-8), of the value written (less than 2^-7 of
+// the largest channel; stb_image_write truncates, so never above it). Both of stb_image's
+// layouts: run-length scanlines (width 8 to 32767) and flat pixels (here width 5). Linear: no
+// curve is applied.
+TEST(HdrImage, ReadsTheSameTexelsAsAnExrWithinRgbePrecision) {
+    for (const auto& [w, h] : {std::pair{24, 6}, std::pair{5, 3}}) {
+        const Image image = varied_image(w, h);
+        const std::string hdr = write_hdr_file("varied_" + std::to_string(w) + ".hdr", image);
+        const std::string exr = temp_path("varied_" + std::to_string(w) + ".exr");
+        write_exr(image, exr);
+        const Image from_hdr = read_image(hdr), from_exr = read_image(exr);
+        ASSERT_EQ(from_hdr.width, w);
+        ASSERT_EQ(from_hdr.height, h);
+        const Image linear = read_linear_image(hdr);
+        for (size_t i = 0; i < image.pixels.size(); ++i) {
+            EXPECT_EQ(linear.pixels[i], from_hdr.pixels[i]);
+            const Color& want = from_exr.pixels[i];
+            const float largest = max_component(want);
+            if (largest == 0.0f) {
+                EXPECT_EQ(from_hdr.pixels[i], Color(0.0f)) << "texel " << i;
+                continue;
+            }
+            int e = 0;
+            std::frexp(largest, &e);
+            const float unit = std::ldexp(1.0f, e - 8);
+            EXPECT_LE(unit, largest * 0x1p-7f);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_GE(from_hdr.pixels[i][c], 0.0f);
+                EXPECT_LE(from_hdr.pixels[i][c], want[c]) << "texel " << i << " channel " << c;
+                EXPECT_LT(want[c] - from_hdr.pixels[i][c], unit)
+                    << "texel " << i << " channel " << c;
+            }
+        }
+        std::filesystem::remove(hdr);
+        std::filesystem::remove(exr);
+    }
+}
+
+// What stb_image 2.27 would misread (zeros past the end of a truncated file, a run of length 0
+// read for ever, an allocation for any size the header claims) is an InputError naming the
+// file, before stb_image decodes: every prefix of a good file, in both layouts, and damaged
+// headers.
+TEST(HdrImage, DamagedFilesAreInputErrorsNamingTheFile) {
+    for (const int w : {24, 5}) {
+        const std::string good = write_hdr_file("good.hdr", varied_image(w, 6));
+        const std::vector<unsigned char> bytes = file_bytes(good);
+        const std::string data(bytes.begin(), bytes.end());
+        const size_t header = data.find("+X " + std::to_string(w) + "\n") + 4 +
+                              std::to_string(w).size();
+        const std::string cut = temp_path("cut.hdr");
+        for (size_t n = 0; n < bytes.size(); ++n) {
+            write_bytes(cut, data.substr(0, n));
+            const std::string error = read_error(cut);
+            ASSERT_NE(error.find(cut + ": "), std::string::npos) << n << " bytes: " << error;
+            if (n > header) {
+                EXPECT_NE(error.find("(truncated?)"), std::string::npos) << n << " bytes: " << error;
+            }
+        }
+        EXPECT_EQ(read_error(good), "");
+        std::filesystem::remove(cut);
+        std::filesystem::remove(good);
+    }
+    using namespace std::string_literals;  // (strings with NUL bytes)
+    const std::string head = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+    struct Case {
+        std::string bytes, expected;
+    };
+    const std::vector<Case> cases = {
+        {head + "-Y 30000 +X 30000\n" + std::string(100, '\x01'),
+         "its size 30000 x 30000 is more pixels than a file of 153 bytes can encode"},
+        {head + "-Y 1 +X 16\n\x02\x02\x00\x10\x00"s, "has a run-length code that does not fit it"},
+        {head + "-Y 1 +X 16\n\x02\x02\x00\x10\x90\x05\x85"s, "cut short"},
+        {head + "-Y 2 +X 16\n\x02\x02\x00\x11"s, "gives a width other than the header's"},
+        {head + "+Y 1 +X 4\n" + std::string(16, '\x01'), "'-Y HEIGHT +X WIDTH'"},
+        {head + "-Y 0 +X 4\n", "holds no pixels"},
+        {"#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 4\n" + std::string(16, '\x01'),
+         "no FORMAT=32-bit_rle_rgbe"},
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", "header is cut short"},
+        {"\x89PNG\r\n\x1a\n" + std::string(40, '\0'), "not a Radiance HDR (RGBE) file"},
+    };
+    const std::string path = temp_path("damaged.hdr");
+    for (const Case& c : cases) {
+        write_bytes(path, c.bytes);
+        const std::string error = read_error(path);
+        EXPECT_NE(error.find(path + ": "), std::string::npos) << error;
+        EXPECT_NE(error.find(c.expected), std::string::npos) << "expected: " << c.expected
+                                                             << "\ngot: " << error;
+    }
+    std::filesystem::remove(path);
 }

@@ -1,13 +1,18 @@
 // Scene files: every error names file, line and field; valid files build the scene they say.
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "io/image.h"
 #include "io/input_error.h"
 #include "io/mesh_file.h"
 #include "io/scene_file.h"
+#include "ray_casting.h"
+#include "render/progressive.h"
+#include "scene/environment.h"
 
 using namespace lessons;
 
@@ -384,5 +389,167 @@ TEST(SceneFile, BoxIsSixOutwardQuadsClosingTheRotatedMovedBox) {
         const std::optional<Hit> in = scene.intersect(outside);
         ASSERT_TRUE(in.has_value());
         EXPECT_TRUE(scene.interaction(outside, *in).front_face());
+    }
+}
+
+// [background] map from a Radiance .hdr file, and real maps' flaws (scene/environment.h).
+namespace {
+
+std::string map_scratch(const std::string& name) {
+    const auto dir = std::filesystem::temp_directory_path() / "lessons_map_file_tests";
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+std::string scene_with_map(const std::string& map) {
+    return R"([image]
+width = 24
+height = 16
+[camera]
+position = [0, 0.3, -4]
+look_at = [0, 0, 0]
+fov = 70
+[materials.grey]
+type = "diffuse"
+albedo = [0.5, 0.5, 0.5]
+[[shapes]]
+type = "sphere"
+material = "grey"
+center = [0, 0, 0]
+radius = 1
+[background]
+map = ")" + map + R"("
+rotate = 20
+strength = 1.5
+)";
+}
+
+// A map of varied radiance with a small sun.
+Image varied_map(int w, int h) {
+    Image map(w, h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+            map.at(i, j) = Color(0.2f + 0.05f * i, 0.3f + 0.1f * j, 0.7f - 0.02f * (i + j));
+    map.at(3, 1) = Color(400.0f, 350.0f, 300.0f);
+    return map;
+}
+
+std::vector<Vec3> directions(int n) {
+    std::vector<Vec3> d;
+    for (int k = 0; k < n; ++k) {  // a Fibonacci spiral over the sphere
+        const float y = 1.0f - 2.0f * (k + 0.5f) / n, r = std::sqrt(1.0f - y * y);
+        const float phi = 2.39996323f * k;
+        d.emplace_back(r * std::cos(phi), y, r * std::sin(phi));
+    }
+    return d;
+}
+
+std::vector<std::string> notes_naming(const Scene& scene, const std::string& file) {
+    std::vector<std::string> found;
+    for (const std::string& n : scene.notes)
+        if (n.find(file) != std::string::npos) found.push_back(n);
+    return found;
+}
+
+}  // namespace
+
+// An .hdr map and an EXR of the texels it holds are the same map: the same radiance and density
+// in every direction, and lesson 1 renders the same image from both, bit for bit.
+TEST(EnvironmentMapFile, AnHdrMapIsTheExrOfTheSameTexels) {
+    const Image map = varied_map(16, 8);
+    const std::string hdr = map_scratch("varied.hdr"), exr = map_scratch("varied.exr");
+    ASSERT_TRUE(stbi_write_hdr(hdr.c_str(), map.width, map.height, 3,
+                               reinterpret_cast<const float*>(map.pixels.data())));
+    write_exr(read_hdr(hdr), exr);
+    const Scene a = build_scene(parse_scene_string(scene_with_map(hdr), "hdr.toml"));
+    const Scene b = build_scene(parse_scene_string(scene_with_map(exr), "exr.toml"));
+    ASSERT_TRUE(a.environment_map && b.environment_map);
+    for (const Vec3& d : directions(4000)) {
+        ASSERT_EQ(a.environment_map->radiance(d), b.environment_map->radiance(d));
+        ASSERT_EQ(a.environment_map->pdf(d), b.environment_map->pdf(d));
+    }
+    EXPECT_EQ(a.environment_map->mean(), b.environment_map->mean());
+    EXPECT_TRUE(a.notes == b.notes);
+    RenderSettings settings;
+    settings.threads = 1;
+    settings.progress = false;
+    const RenderResult ra = render_scene(a, RayCastingModel(a, {}), 2, settings);
+    const RenderResult rb = render_scene(b, RayCastingModel(b, {}), 2, settings);
+    for (size_t i = 0; i < ra.image.pixels.size(); ++i)
+        ASSERT_EQ(ra.image.pixels[i], rb.image.pixels[i]) << "pixel " << i;
+}
+
+// Slightly negative texels (down to -0.01, before the strength) are set to 0, and the scene has
+// one note naming the file, how many texels, and the lowest value. Clamped by hand, the same map.
+TEST(EnvironmentMapFile, SlightlyNegativeTexelsAreSetToZeroWithOneNote) {
+    Image map = varied_map(8, 4);
+    map.at(1, 0).x = -0.004f;
+    map.at(2, 1).y = -0.001f;
+    map.at(2, 1).z = -0.002f;
+    map.at(5, 3).z = -0.0005f;
+    const std::string flawed = map_scratch("flawed.exr"), clean = map_scratch("clean.exr");
+    write_exr(map, flawed);
+    for (Color& c : map.pixels) c = glm::max(c, Color(0.0f));
+    write_exr(map, clean);
+    const Scene a = build_scene(parse_scene_string(scene_with_map(flawed), "flawed.toml"));
+    const Scene b = build_scene(parse_scene_string(scene_with_map(clean), "clean.toml"));
+    const std::vector<std::string> notes = notes_naming(a, flawed);
+    ASSERT_EQ(notes.size(), 1u) << ::testing::PrintToString(a.notes);
+    EXPECT_NE(notes[0].find(": 3 texel(s)"), std::string::npos) << notes[0];
+    EXPECT_NE(notes[0].find("the lowest -0.004"), std::string::npos) << notes[0];
+    EXPECT_NE(notes[0].find("set to 0"), std::string::npos) << notes[0];
+    EXPECT_TRUE(notes_naming(b, clean).empty());
+    EXPECT_EQ(a.notes.size(), b.notes.size() + 1);
+    ASSERT_TRUE(a.environment_map && b.environment_map);
+    for (const Vec3& d : directions(4000)) {
+        ASSERT_EQ(a.environment_map->radiance(d), b.environment_map->radiance(d));
+        ASSERT_EQ(a.environment_map->pdf(d), b.environment_map->pdf(d));
+    }
+}
+
+// The tolerance's edge, texel by texel: -0.01 is clamped, just below it is refused, as are NaN
+// and infinity, each naming the texel (column, row).
+TEST(EnvironmentMapFile, TheToleranceIsMinusOneHundredthAndNaNIsNeverClamped) {
+    std::vector<Color> texels(8, Color(0.5f));
+    texels[5] = Color(0.5f, -kNegativeTexelTolerance, 0.0f);
+    const ClampedTexels clamped = clamp_negative_texels(texels, 4);
+    EXPECT_EQ(clamped.texels, 1u);
+    EXPECT_EQ(clamped.minimum, -0.01f);
+    EXPECT_EQ(texels[5], Color(0.5f, 0.0f, 0.0f));
+    for (const float bad : {std::nextafter(-0.01f, -1.0f), -0.5f, NAN, -INFINITY, INFINITY}) {
+        std::vector<Color> t(8, Color(0.5f));
+        t[6].z = bad;
+        try {
+            clamp_negative_texels(t, 4);
+            ADD_FAILURE() << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("texel (2, 1)"), std::string::npos) << e.what();
+        }
+    }
+}
+
+// In a scene: a NaN texel and one far below the tolerance are refused, naming the scene's line
+// and field, the map and the texel.
+TEST(EnvironmentMapFile, NanAndLargeNegativeTexelsAreRefused) {
+    struct Case {
+        float value;
+        const char* expected;
+    };
+    for (const Case& c : {Case{NAN, "not finite"}, Case{-0.5f, "negative beyond the tolerance"},
+                          Case{-0.0101f, "negative beyond the tolerance"}}) {
+        Image map = varied_map(8, 4);
+        map.at(6, 2).y = c.value;
+        const std::string path = map_scratch("bad.exr");
+        write_exr(map, path);
+        try {
+            build_scene(parse_scene_string(scene_with_map(path), "bad.toml"));
+            ADD_FAILURE() << c.value << " was accepted";
+        } catch (const InputError& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("bad.toml:17: background.map: " + path + ": texel (6, 2)"),
+                      std::string::npos)
+                << what;
+            EXPECT_NE(what.find(c.expected), std::string::npos) << what;
+        }
     }
 }

@@ -2,10 +2,13 @@
 // edges, sRGB decoding on the standard curve, a flat texture rendering exactly as the same
 // colour, and the texels a reflectance may not have.
 #include <gtest/gtest.h>
+#include <stb_image_write.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "io/image.h"
 #include "io/input_error.h"
@@ -155,6 +158,47 @@ TEST(Texture, ExrTexturesAreLinearAndTheirTexelsChecked) {
         EXPECT_NE(std::string(e.what()).find("bright.toml:10: materials.wall.albedo: "),
                   std::string::npos)
             << e.what();
+    }
+}
+
+// A Radiance .hdr texture is linear, as an EXR (no sRGB curve), its texels within RGBE's
+// precision of the values written (one unit of the 8-bit mantissa), and checked as an EXR's.
+TEST(Texture, HdrTexturesAreLinearAndTheirTexelsChecked) {
+    const std::string good = scratch("linear.hdr"), bright = scratch("bright.hdr");
+    float texels[6] = {0.25f, 0.5f, 0.75f, 0.1f, 0.1f, 0.1f};
+    ASSERT_TRUE(stbi_write_hdr(good.c_str(), 2, 1, 3, texels));
+    const auto t = read_texture(good, 1 << 20);
+    ASSERT_EQ(t->width, 2);
+    // 0.75 and 0.1 have exponents 0 and -3: units of 2^-8 and 2^-11 (0.25 and 0.5 are exact).
+    expect_color(t->texels[0], Color(0.25f, 0.5f, 0.75f), 0x1p-8f);
+    expect_color(t->texels[1], Color(0.1f), 0x1p-11f);
+    EXPECT_EQ(t->texels[0].x, 0.25f);  // not 0.05, its sRGB decoding
+    texels[3] = 1.5f;
+    ASSERT_TRUE(stbi_write_hdr(bright.c_str(), 2, 1, 3, texels));
+    try {
+        read_texture(bright, 1 << 20);
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("texel (1, 0)"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("in [0, 1]"), std::string::npos) << e.what();
+    }
+    // In a scene, a damaged one names the scene's line and field and the file.
+    std::string bytes;
+    {
+        std::ifstream in(good, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    const std::string cut = scratch("cut.hdr");
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() - 3);
+    try {
+        build_scene(parse_scene_string(scene_with_albedo("{ texture = \"" + cut + "\" }"),
+                                       "cut.toml"));
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("cut.toml:10: materials.wall.albedo: "), std::string::npos) << what;
+        EXPECT_NE(what.find(cut + ": "), std::string::npos) << what;
+        EXPECT_NE(what.find("(truncated?)"), std::string::npos) << what;
     }
 }
 

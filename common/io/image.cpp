@@ -1,4 +1,5 @@
-// Image output through tinyexr (linear EXR) and stb_image_write (sRGB PNG).
+// Image output through tinyexr (linear EXR) and stb_image_write (sRGB PNG); input from EXR
+// (tinyexr), PNG and JPEG (stb_image) and Radiance .hdr (image_hdr.cpp).
 #include "io/image.h"
 
 #include <stb_image.h>
@@ -103,11 +104,18 @@ void write_png_bytes(const std::string& path, int width, int height,
     });
 }
 
+Image read_linear_image(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    return ext == ".hdr" ? read_hdr(path) : read_exr(path);
+}
+
 Image read_image(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });
-    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") return read_exr(path);
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg") return read_linear_image(path);
     // 8- or 16-bit sRGB-encoded: decoded to linear by the standard curve.
     int w = 0, h = 0, channels = 0;
     const bool sixteen = stbi_is_16_bit(path.c_str());

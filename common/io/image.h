@@ -40,7 +40,21 @@ Image read_exr(const std::string& path);
 // other fault to tinyexr's own errors. Call it before any tinyexr function that parses the file's
 // header.
 void check_exr_header(const std::string& path);
-// Reads an EXR, or a PNG (8-bit sRGB, decoded to linear values). Throws std::runtime_error.
+// Reads a Radiance .hdr (RGBE) file's linear RGB with stb_image's float loader (no curve), after
+// check_hdr_file. Throws an InputError naming the file on failure.
+Image read_hdr(const std::string& path);
+// Checks a Radiance .hdr file's bytes before stb_image (2.27) decodes them, which would otherwise
+// read zeros past the end of a truncated file without an error, loop forever on a run of length
+// 0, or allocate for any size the header claims: the header as stb_image parses it ("-Y H +X W"
+// only, FORMAT=32-bit_rle_rgbe), the size as stbi_info reads it, at most 8388608 pixels a side
+// and 16 pixels per byte of the file (the most RGBE's run-length code packs), and every scanline
+// walked as stb_image reads it, within the file. Throws an InputError naming the file.
+void check_hdr_file(const std::string& path, const std::vector<unsigned char>& bytes);
+// Reads a linear image of radiance: a Radiance .hdr file (read_hdr) by its extension, any other
+// as an EXR (read_exr). Throws std::runtime_error naming the file.
+Image read_linear_image(const std::string& path);
+// Reads an EXR or a Radiance .hdr (linear, as read_linear_image), or a PNG or JPEG (8- or 16-bit
+// sRGB, decoded to linear values). Throws std::runtime_error.
 Image read_image(const std::string& path);
 // The PNG's bytes of write_png: each channel times 2^exposure, clamped, sRGB-encoded, 8 bits.
 std::vector<uint8_t> display_bytes(const Image& image, float exposure_stops = 0.0f);

@@ -1,6 +1,7 @@
 // Stage 2 of scene loading: SceneDescription -> Scene.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <map>
 
@@ -56,12 +57,26 @@ void read_environment_map(const SceneDescription& d, const InputLimits& limits, 
     Image image;
     try {
         check_input_file(d.background_map, "environment map", limits.file_bytes(), "--max-file-mb");
-        image = read_exr(d.background_map);
+        image = read_linear_image(d.background_map);
         record_input(scene, d.background_map);
     } catch (const InputError& e) {
         throw InputError(w.file, w.line, w.field, e.what());
     } catch (const std::runtime_error& e) {
         throw InputError(w.file, w.line, w.field, e.what());
+    }
+    ClampedTexels clamped;
+    try {
+        clamped = clamp_negative_texels(image.pixels, image.width);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(w.file, w.line, w.field, d.background_map + ": " + e.what());
+    }
+    if (clamped.texels > 0) {
+        char minimum[32];
+        std::snprintf(minimum, sizeof minimum, "%.3g", clamped.minimum);
+        scene.notes.push_back(d.background_map + ": " + std::to_string(clamped.texels) +
+                              " texel(s) with channels slightly below 0 (the lowest " + minimum +
+                              "; flaws of compression or colour conversion, down to -0.01 "
+                              "allowed) set to 0");
     }
     bool constant = true;
     for (const Color& c : image.pixels) constant &= c == image.pixels.front();

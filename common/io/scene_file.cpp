@@ -5,6 +5,8 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -20,7 +22,8 @@ using scene_file::TableReader;
 
 namespace {
 
-// [background]: a uniform radiance, or a map (an EXR of radiance) with its rotation and strength.
+// [background]: a uniform radiance, or a map (an EXR or .hdr of radiance) with its rotation and
+// strength.
 void read_background(TableReader& top, const std::string& file, SceneDescription& d) {
     TableReader bg(top.table("background"), file, "background");
     if (bg.has("radiance") == bg.has("map"))
@@ -34,8 +37,12 @@ void read_background(TableReader& top, const std::string& file, SceneDescription
     }
     const std::filesystem::path rel = bg.string("map");
     d.background_where = bg.where("map");
-    if (rel.extension() != ".exr" && rel.extension() != ".EXR")
-        bg.fail("map", "an environment map is an OpenEXR file of linear radiance (.exr)");
+    std::string ext = rel.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    if (ext != ".exr" && ext != ".hdr")
+        bg.fail("map", "an environment map is an OpenEXR file (.exr) or a Radiance HDR file "
+                       "(.hdr) of linear radiance");
     d.background_map = (rel.is_absolute() ? rel : std::filesystem::path(file).parent_path() / rel)
                            .lexically_normal()
                            .string();

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "sampling/discrete.h"
@@ -12,6 +13,31 @@ namespace lessons {
 namespace {
 constexpr double kPiD = 3.14159265358979323846;
 }  // namespace
+
+ClampedTexels clamp_negative_texels(std::vector<Color>& texels, int width) {
+    ClampedTexels clamped;
+    for (size_t k = 0; k < texels.size(); ++k) {
+        Color& c = texels[k];
+        const auto fail = [&](const char* what) {
+            char msg[320];
+            std::snprintf(msg, sizeof msg, "texel (%d, %d) is (%g, %g, %g): %s", 
+                          static_cast<int>(k % width), static_cast<int>(k / width), c.x, c.y, c.z,
+                          what);
+            throw std::invalid_argument(msg);
+        };
+        if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)))
+            fail("not finite (radiance is finite and >= 0)");
+        const float lowest = min_component(c);
+        if (lowest >= 0.0f) continue;
+        if (lowest < -kNegativeTexelTolerance)
+            fail("negative beyond the tolerance of -0.01 for flaws of compression and colour "
+                 "conversion (radiance is finite and >= 0)");
+        ++clamped.texels;
+        clamped.minimum = std::min(clamped.minimum, lowest);
+        c = glm::max(c, Color(0.0f));
+    }
+    return clamped;
+}
 
 EnvironmentMap::EnvironmentMap(int width, int height, std::vector<Color> texels,
                                float rotate_degrees, float strength)

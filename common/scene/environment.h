@@ -25,6 +25,22 @@
 
 namespace lessons {
 
+// Real maps' flaws: maps saved by Blender and other tools hold a few slightly negative texels
+// (down to about -0.004), left by lossy compression and by conversion between colour spaces.
+// Channels from -kNegativeTexelTolerance up to 0 (in the file's values, before `strength`) are
+// such flaws: clamp_negative_texels sets them to 0. Clamping them brightens the map's mean
+// radiance by at most the tolerance, 0.01 W/(sr m^2), even if every texel were clamped
+// (docs/scene-format.md).
+inline constexpr float kNegativeTexelTolerance = 0.01f;
+struct ClampedTexels {
+    size_t texels = 0;      // texels with a channel set to 0
+    float minimum = 0.0f;   // the most negative channel among them (0 if none)
+};
+// texels: width wide, top row first. Sets every channel in [-kNegativeTexelTolerance, 0) to 0.
+// Throws std::invalid_argument naming the first texel (column, row) that is not finite or has a
+// channel below -kNegativeTexelTolerance (the texels are then unchanged or partly clamped).
+ClampedTexels clamp_negative_texels(std::vector<Color>& texels, int width);
+
 class EnvironmentMap {
 public:
     // texels: width x height, top row first, linear radiance (W / (sr m^2)) before `strength`.

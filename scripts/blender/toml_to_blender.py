@@ -157,7 +157,7 @@ def linear_texture(path):
     if path in _textures:
         return _textures[path]
     image = bpy.data.images.load(path, check_existing=True)
-    if path.lower().endswith(".exr"):
+    if path.lower().endswith((".exr", ".hdr")):
         image.colorspace_settings.name = "Linear"
     elif not image.is_float:
         w, h = image.size
