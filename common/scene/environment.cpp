@@ -20,7 +20,7 @@ ClampedTexels clamp_negative_texels(std::vector<Color>& texels, int width) {
         Color& c = texels[k];
         const auto fail = [&](const char* what) {
             char msg[320];
-            std::snprintf(msg, sizeof msg, "texel (%d, %d) is (%g, %g, %g): %s", 
+            std::snprintf(msg, sizeof msg, "texel (%d, %d) is (%g, %g, %g): %s",
                           static_cast<int>(k % width), static_cast<int>(k / width), c.x, c.y, c.z,
                           what);
             throw std::invalid_argument(msg);
