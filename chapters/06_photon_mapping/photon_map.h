@@ -80,9 +80,9 @@ public:
     size_t size() const { return photons_.size(); }
     // The photons in the grid's order (by bucket).
     std::span<const Photon> photons() const { return photons_; }
-    // Memory held: the sorted photons and the buckets' offsets, in bytes.
+    // Memory held: the sorted photons and the buckets' offsets, in bytes (the arrays' sizes).
     size_t bytes() const {
-        return photons_.capacity() * sizeof(Photon) + bucket_start_.capacity() * sizeof(uint32_t);
+        return photons_.size() * sizeof(Photon) + bucket_start_.size() * sizeof(uint32_t);
     }
 
     // Calls fn(photon) for every photon with |photon.p - x| < r (the distance in float, as

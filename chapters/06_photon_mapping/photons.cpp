@@ -1,6 +1,8 @@
 // Lesson 6, section 3: the light subpaths of one iteration and their photons (see photons.h).
 #include "photons.h"
 
+#include <algorithm>
+
 #include "accel/parallel.h"
 #include "sampling/rng.h"
 
@@ -17,9 +19,11 @@ std::span<const Vertex> LightPaths::subpath(size_t j) const {
 
 size_t LightPaths::bytes() const {
     size_t bytes = photons.size() * sizeof(Photon);
-    for (const Part& part : parts)
-        bytes += part.vertices.size() * sizeof(Vertex) + part.start.size() * sizeof(uint32_t);
-    return bytes;
+    if (parts.empty()) return bytes;
+    // The subpaths' vertices and one offset each (and one past the last): as one array would
+    // hold them, whatever the parts.
+    for (const Part& part : parts) bytes += part.vertices.size() * sizeof(Vertex);
+    return bytes + (static_cast<size_t>(std::max(count, 0)) + 1) * sizeof(uint32_t);
 }
 
 namespace {

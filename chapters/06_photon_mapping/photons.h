@@ -55,7 +55,7 @@ struct LightPaths {
 };
 
 // The seed of the photons' random numbers: iteration k's subpath j draws from
-// Rng(seed ^ kPhotonSeed, k, j) (sampling/rng.h), a stream of its own for each (seed, k, j)
+// Rng(seed ^ kPhotonSeed, k, j) (sampling/rng.h), numbers of its own for each (seed, k, j)
 // and apart from the camera's, which draw from Rng(seed, pixel, sample). They are independent
 // (PCG32) whatever the --sampler: a randomised Kronecker sequence keyed per subpath would move
 // each light subpath's numbers in lockstep with its pixel's camera numbers of the same
