@@ -32,7 +32,7 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& came
         L += contribution;
         if (!bounces.empty()) bounces[std::min<size_t>(k, bounces.size() - 1)] += contribution;
     };
-    const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
+    const int longest = longest_path(options.max_depth);
 
     Color beta(1.0f);  // path throughput: product of f cos / p along the path so far
     Ray ray = camera_ray;

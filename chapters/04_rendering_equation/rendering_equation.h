@@ -36,6 +36,10 @@ namespace lessons {
 // Paths longer than this are cut even without a depth limit: a path trapped by total internal
 // reflection keeps throughput 1, so Russian roulette alone would never end it.
 inline constexpr int kLongestPath = 1000;
+// The most segments a path may have under --max-depth N (0: no limit but the safety cut).
+inline constexpr int longest_path(int max_depth) {
+    return max_depth > 0 ? max_depth : kLongestPath;
+}
 
 struct PathOptions {
     bool next_event = true;  // false: the plain estimator, BSDF sampling only

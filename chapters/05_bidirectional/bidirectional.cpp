@@ -11,7 +11,7 @@ int strategy_layer(int s, int t, int max_layer_segments) {
 
 void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
                     std::vector<Vertex>& camera, std::vector<Vertex>& light) {
-    const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
+    const int longest = longest_path(options.max_depth);
     // Light tracing needs no camera path: the camera is joined to every light vertex.
     camera_subpath(b, ray, rng, options.light_tracing ? 1 : longest + 1, options.roulette_after,
                    camera);

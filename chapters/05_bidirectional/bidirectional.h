@@ -79,7 +79,7 @@ template <class Add>
 void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
                        std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
                        double merge_eta, Add&& add) {
-    const int longest = options.max_depth > 0 ? options.max_depth : kLongestPath;
+    const int longest = longest_path(options.max_depth);
     const int light_vertices = static_cast<int>(light.size());
     const bool weighted = !options.light_tracing;
     for (int t = 1; t <= static_cast<int>(camera.size()); ++t) {

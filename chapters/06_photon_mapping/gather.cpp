@@ -21,7 +21,7 @@ namespace lessons {
 Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& camera_ray, Rng& rng,
                      const PhotonOptions& options, std::span<Color> layers) {
     const Scene& scene = b.scene;
-    const int longest = options.paths.max_depth > 0 ? options.paths.max_depth : kLongestPath;
+    const int longest = longest_path(options.paths.max_depth);
     Color beta(1.0f), direct(0.0f), photons(0.0f);
     Ray ray = camera_ray;
     for (int segments = 1; segments <= longest; ++segments) {

@@ -59,7 +59,7 @@ void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads) {
 
 Color merges(const PhotonPass& pass, std::span<const Vertex> camera,
              const PhotonOptions& options) {
-    const int longest = options.paths.max_depth > 0 ? options.paths.max_depth : kLongestPath;
+    const int longest = longest_path(options.paths.max_depth);
     const int N = std::max(pass.paths.count, 1);
     const double eta = static_cast<double>(N) * kPi * pass.radius * pass.radius;
     Color L(0.0f);

@@ -120,7 +120,7 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
 
 void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const {
     if (!uses_photons(options_.method) || (pass_.index == k && pass_.seed == settings.seed)) return;
-    const int longest = options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
+    const int longest = longest_path(options_.paths.max_depth);
     PhotonPass& pass = pass_;
     pass.grid = PhotonGrid{};  // the last pass's grid back first; its light subpaths' arrays are
                                // traced into again
@@ -175,7 +175,7 @@ Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, uint32_t p
     std::span<const Vertex> light;
     if (merging) {
         // The pass's light subpath of this pixel's index (its photons are the pass's too).
-        const int longest = options_.paths.max_depth > 0 ? options_.paths.max_depth : kLongestPath;
+        const int longest = longest_path(options_.paths.max_depth);
         camera_subpath(b_, ray, rng, longest + 1, options_.paths.roulette_after, camera);
         light = pass_.paths.subpath(pixel);
     } else {
