@@ -396,6 +396,8 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     const Materials materials = add_materials(d, options.limits, textures, scene);
     add_shapes(d, materials, options.limits, textures, scene);
     for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
+    for (const DirectionalLightDescription& l : d.directional_lights)
+        scene.add_directional_light(l.light);
     warn_of_a_camera_inside(d);
     scene.commit(options.threads);
     return scene;
