@@ -131,8 +131,7 @@ set -euo pipefail
 cd $(q "$WORKDIR")
 line=\$(sed -n "\$((SLURM_ARRAY_TASK_ID + 1))p" $(q "$DIR/parts.txt"))
 [ -n "\$line" ] || { echo "no part \$SLURM_ARRAY_TASK_ID in $DIR/parts.txt" >&2; exit 2; }
-# (srun is given the CPUs again: since Slurm 22.05 it does not inherit sbatch's --cpus-per-task)
-srun --cpus-per-task=$THREADS bash -c "\$line"
+srun bash -c "\$line"
 SBATCH
     cat > "$DIR/merge.sbatch" <<SBATCH
 #!/bin/bash
