@@ -117,9 +117,17 @@ never_satisfied() {
 job_done() {  # ended, in any way
     case $(job_state "$1") in PENDING | RUNNING | CONFIGURING | COMPLETING | "") return 1 ;; esac
 }
+node_idle() {  # (and the daemons still there: a bad configuration stops them at once)
+    local pid
+    for pid in "${DAEMONS[@]}"; do kill -0 "$pid" 2> /dev/null || fail "a daemon exited (pid $pid)"; done
+    [ "$(sinfo -h -o %T 2> /dev/null)" = idle ]
+}
 cancel_all_jobs() {  # every job of this cluster, waiting (bounded) for their steps to end
-    scancel --user=root 2> /dev/null
-    for _ in $(seq 50); do [ -z "$(active)" ] && break; sleep 0.2; done
+    timeout 15 scancel --user=root 2> /dev/null
+    local deadline=$((SECONDS + 15))
+    while [ $SECONDS -lt $deadline ] && [ -n "$(timeout 5 squeue -h -t $ACTIVE 2> /dev/null)" ]; do
+        sleep 0.2
+    done
 }
 
 run_slurm() {
@@ -174,7 +182,7 @@ CONF
     DAEMONS+=($!)
     # Before the daemons stop: every job of this cluster cancelled, and its steps gone.
     CLEANUP+=(cancel_all_jobs)
-    wait_for 30 "the node idle in sinfo" bash -c '[ "$(sinfo -h -o %T 2> /dev/null)" = idle ]'
+    wait_for 30 "the node idle in sinfo" node_idle
     sinfo
 
     # 1. Task 3 held: the others render, merge --status shows them and part 3 not there yet;
