@@ -17,7 +17,10 @@ namespace {
 // What to render and where to write it: the scene, the output, the samples and their part, the
 // image's size, threads, seed, report, exposure, progress.
 void add_output_options(CLI::App& app, CommonOptions& o) {
-    app.add_option("--scene", o.scene, "Scene file (TOML), see docs/scene-format.md")
+    app.add_option("--scene", o.scene,
+                   "Scene file (TOML, or glTF), see docs/scene-format.md; or the name of a "
+                   "scene the suite ships (cornell_box, hard/cornell_tiny), when no such file "
+                   "is here")
         ->capture_default_str();
     app.add_option("--out", o.out,
                    "Output prefix: writes PREFIX.exr (linear radiance) and PREFIX.png (sRGB); "
