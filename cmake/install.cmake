@@ -49,7 +49,7 @@ set(CPACK_PACKAGE_NAME ${LESSONS_PACKAGE})
 set(CPACK_PACKAGE_VENDOR "Suite developers")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "${PROJECT_DESCRIPTION}")
-set(CPACK_PACKAGE_DESCRIPTION
+string(CONCAT CPACK_PACKAGE_DESCRIPTION
     "Six programs render the same scenes with the illumination models of a lecture, in order: "
     "ray casting, Whitted recursion, the reflection equation, path tracing, bidirectional path "
     "tracing, photon mapping. With the scenes they render (share/illumination-lessons/scenes, "

@@ -91,9 +91,9 @@ cp "$HERE/installed_checks.sh" "$WORK/installed_checks.sh"
 hide="mount -t tmpfs -o size=1m,mode=000 none '$ROOT'"
 case "$BUILD/" in "$ROOT/"*) ;; *) hide="$hide && mount -t tmpfs -o size=1m,mode=000 none '$BUILD'" ;; esac
 hidden() {
-    if [ "$(id -u)" = 0 ] && unshare -m true 2> /dev/null; then
+    if [ "$(id -u)" = 0 ] && unshare -m bash -c "$hide" 2> /dev/null; then
         unshare -m bash -c "$hide && exec bash \"\$@\"" hidden "$@"
-    elif unshare -r -m true 2> /dev/null; then
+    elif unshare -r -m bash -c "$hide" 2> /dev/null; then
         unshare -r -m bash -c "$hide && exec bash \"\$@\"" hidden "$@"
     else
         echo "note: no mount namespace here (unshare refused): the trees stay visible; the" \
