@@ -30,7 +30,7 @@ trap cleanup EXIT
 
 cpack -G DEB --config "$BUILD/CPackConfig.cmake" -B "$WORK/cpack" > "$WORK/cpack.log" 2>&1 ||
     { cat "$WORK/cpack.log"; fail "cpack -G DEB"; }
-DEBS=("$WORK"/cpack/${PACKAGE}_*.deb)
+DEBS=("$WORK/cpack/${PACKAGE}"_*.deb)
 [ -f "${DEBS[0]}" ] || fail "cpack made no ${PACKAGE}_*.deb"
 
 installed=1  # from here on, the package may be (partly) installed: cleanup removes it

@@ -58,8 +58,9 @@ echo "ok: an unknown name: exit 2, $(cat unknown.err)"
 # A file here comes before the shipped scene of that name.
 sed 's/^width = .*/width = 24/; s/^height = .*/height = 18/' "$SHIPPED/scenes/cornell_box.toml" > cornell_box.toml
 01_ray_casting --scene cornell_box --spp 1 --quiet --out here --report here.json > /dev/null
-grep -q '"scene": "cornell_box.toml"' here.json && grep -q '"width": 24' here.json ||
+if ! grep -q '"scene": "cornell_box.toml"' here.json || ! grep -q '"width": 24' here.json; then
     fail "./cornell_box.toml was not the scene of --scene cornell_box"
+fi
 rm cornell_box.toml
 echo "ok: ./cornell_box.toml comes before the shipped one"
 
@@ -89,6 +90,7 @@ PORT="${PORT%/}"
 # METHOD PATH into FILE (the body) with bash's /dev/tcp; fails unless the status is 200. A POST
 # carries the header the page sends (X-Studio: 1).
 request() {
+    # shellcheck disable=SC2016  # (expanded by the inner bash)
     timeout 10 bash -c 'exec 3<> "/dev/tcp/127.0.0.1/$0" &&
         printf "%s %s HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Studio: 1\r\nContent-Length: 0\r\nConnection: close\r\n\r\n" "$1" "$2" >&3 &&
         cat <&3' "$PORT" "$1" "$2" > response || fail "$1 $2: no answer"

@@ -49,7 +49,7 @@ cmake --install "$BUILD" --prefix "$WORK/prefix" --strip > "$WORK/install.log" |
 # 2. The .deb, made outside the build tree, and unpacked.
 cpack -G DEB --config "$BUILD/CPackConfig.cmake" -B "$WORK/cpack" > "$WORK/cpack.log" 2>&1 ||
     { cat "$WORK/cpack.log"; fail "cpack -G DEB"; }
-DEBS=("$WORK"/cpack/${PACKAGE}_*.deb)
+DEBS=("$WORK/cpack/${PACKAGE}"_*.deb)
 [ -f "${DEBS[0]}" ] || { cat "$WORK/cpack.log"; fail "cpack made no ${PACKAGE}_*.deb"; }
 DEB="${DEBS[0]}"
 echo "package: $(basename "$DEB"), $(du -k "$DEB" | cut -f1) KiB"
