@@ -24,6 +24,7 @@
 #include "io/input_error.h"
 #include "io/report.h"
 #include "io/scene_file.h"
+#include "io/shipped_files.h"
 
 using namespace lessons;
 
@@ -234,7 +235,10 @@ int main(int argc, char** argv) {
     CLI::App app{"Writes a scene as the lessons load it (world-space shapes, materials, lights, "
                  "camera) as JSON, for the Blender bridge (docs/interop.md)"};
     std::string scene_file, out;
-    app.add_option("SCENE", scene_file, "A TOML scene, or a .gltf/.glb file")->required();
+    app.add_option("SCENE", scene_file,
+                   "A TOML scene, or a .gltf/.glb file, or the name of a shipped scene "
+                   "(cornell_box)")
+        ->required();
     app.add_option("--out", out, "The JSON file to write (default: standard output)");
     try {
         app.parse(argc, argv);
@@ -242,7 +246,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     try {
-        const SceneDescription d = describe_scene_file(scene_file);
+        const SceneDescription d = describe_scene_file(find_scene_file(scene_file));
         const Scene scene = build_scene(d);
         const std::string json = export_scene(d, scene);
         if (out.empty()) {

@@ -7,6 +7,7 @@
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
+#include "io/shipped_files.h"
 #include "render/app.h"
 #include "render/part.h"
 
@@ -106,7 +107,7 @@ void apply_albedo(float rho, Scene& scene) {
 }  // namespace
 
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
-    in.scene = load_scene(o.scene, {o.width, o.height, o.limits, o.threads});
+    in.scene = load_scene(find_scene_file(o.scene), {o.width, o.height, o.limits, o.threads});
     check_memory(in.scene.width, in.scene.height);
     apply_naive_methods(o.naive, in.scene.naive);
     apply_albedo(o.albedo, in.scene);

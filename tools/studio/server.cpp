@@ -1,5 +1,6 @@
 // studio: the lessons, live, in a browser (docs/studio.md). An HTTP server (cpp-httplib) on
-// 127.0.0.1 that serves one page (tools/studio/page) and the API it polls:
+// 127.0.0.1 that serves one page (tools/studio/page, shipped as share/illumination-lessons/page)
+// and the API it polls:
 //
 //   GET  /api/config                  scenes, lessons and their flags, limits, the bind address
 //   POST /api/start?pane=P&scene=S&lesson=L&--flag=V...   (re)starts pane P; 400 on bad input
@@ -25,6 +26,7 @@
 #include <thread>
 
 #include "io/report.h"
+#include "io/shipped_files.h"
 #include "studio.h"
 
 using namespace lessons;
@@ -188,9 +190,12 @@ struct ServerOptions {
     int port = 8642;
     std::string bind = "127.0.0.1";
     std::vector<std::pair<std::string, std::string>> folders;  // (label, folder) of scenes
-    std::string references = LESSONS_SOURCE_DIR "/out";
-    std::string cache = LESSONS_SOURCE_DIR "/out/studio";
-    std::string page = LESSONS_SOURCE_DIR "/tools/studio/page";
+    // Relative to the folder the studio starts in, as a lesson's out/ is (scripts/studio.sh
+    // starts it in the repository, where scripts/lessons.sh writes out/).
+    std::string references = "out";
+    std::string cache = "out/studio";
+    // Shipped beside the program (common/io/shipped_files.h): installed or in the build tree.
+    std::string page = (shipped_files_dir() / "page").string();
     Limits limits;
 };
 
@@ -206,7 +211,7 @@ void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& 
         ->capture_default_str();
     app.add_option("--scenes", scene_dirs,
                    "Folders of scene files the page may choose from, each given once (default: "
-                   "the suite's scenes/ and scenes/hard/); no other file can be chosen");
+                   "the scenes/ and scenes/hard/ the suite ships); no other file can be chosen");
     app.add_option("--references", o.references,
                    "Where scripts/lessons.sh wrote its references (<dir>/<scene>/reference.exr)")
         ->capture_default_str();
@@ -236,7 +241,8 @@ void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& 
 // stderr) for one that is not a folder.
 bool read_scene_folders(std::vector<std::string> scene_dirs, ServerOptions& o) {
     if (scene_dirs.empty())
-        scene_dirs = {LESSONS_SOURCE_DIR "/scenes", LESSONS_SOURCE_DIR "/scenes/hard"};
+        scene_dirs = {(shipped_files_dir() / "scenes").string(),
+                      (shipped_files_dir() / "scenes" / "hard").string()};
     for (const std::string& dir : scene_dirs) {
         std::error_code ec;
         if (!std::filesystem::is_directory(dir, ec)) {
