@@ -440,8 +440,10 @@ SceneContents Scene::contents() const {
         switch (light.kind) {
             case LightKind::Point: {
                 c.point_lights = true;
-                const Vec3 d = point_lights_[light.index].position - camera.position();
-                if (glm::dot(d, d) > 0.0f)
+                const PointLight& l = point_lights_[light.index];
+                const Vec3 d = l.position - camera.position();
+                // In the image, and (a spot) sending some light towards the camera.
+                if (glm::dot(d, d) > 0.0f && !is_black(l.intensity_towards(-glm::normalize(d))))
                     c.point_light_in_view |=
                         camera.raster_position(glm::normalize(d), width, height).has_value();
                 break;
