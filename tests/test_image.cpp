@@ -263,9 +263,10 @@ TEST(Image, DamagedAndLyingExrFilesAreInputErrors) {
     const std::string bytes = read_bytes(good);
     const ExrTable t = exr_table(bytes);
     const std::string magic = bytes.substr(0, 4), scanline = magic + std::string("\2\0\0\0", 4);
-    // The file with `attribute` put first in its header; the line offsets move with it.
-    const auto with = [&](const std::string& attribute) {
-        std::string file = scanline + attribute + bytes.substr(8);
+    // The file with `attribute` put first (or last) in its header; the line offsets move with it.
+    const auto with = [&](const std::string& attribute, bool last = false) {
+        const size_t at = last ? t.table - 1 : 8;
+        std::string file = scanline + bytes.substr(8, at - 8) + attribute + bytes.substr(at);
         for (size_t at = t.table; at < t.first_chunk; at += 8) {
             uint64_t offset = 0;
             std::memcpy(&offset, bytes.data() + at, 8);
@@ -284,9 +285,16 @@ TEST(Image, DamagedAndLyingExrFilesAreInputErrors) {
     write_bytes(path, with(chunk_count(chunks)));
     EXPECT_EQ(read_exr(path).at(2, 1), image.at(2, 1));
 
+    // A data window given twice: OpenEXRCore, which the check reads with, keeps the first, and
+    // the C++ library, which decodes, the last (and would allocate for it).
+    const auto window = [](int32_t x1, int32_t y1) {
+        const int32_t v[4] = {0, 0, x1, y1};
+        return exr_attribute("dataWindow", "box2i", std::string(reinterpret_cast<const char*>(v), 16));
+    };
     std::vector<std::pair<std::string, std::string>> cases = {
         {with(chunk_count(0x7fffffff)), "chunkCount"},
         {with(chunk_count(chunks - 1)), "chunkCount"},
+        {with(window(99'999, 39), true), "dataWindow"},
     };
     // Data windows that lie about the file's size.
     const auto with_window = [&](int32_t x0, int32_t y0, int32_t x1, int32_t y1) {

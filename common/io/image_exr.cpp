@@ -4,8 +4,13 @@
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+#include <ImfTileDescription.h>
+#include <ImfVersion.h>
+#include <ImfXdr.h>
 #include <openexr.h>
 
 #include <algorithm>
@@ -84,6 +89,27 @@ int64_t lines_per_chunk(int compression) {
     case EXR_COMPRESSION_DWAB: return 256;
     default: return 1;  // none, RLE, ZIPS
     }
+}
+
+// The headers as OpenEXR's C++ library reads them, at most `parts` of them: where an attribute is
+// given twice it keeps the last, where OpenEXRCore keeps the first, and its decoder allocates by
+// what it read. (OpenEXRCore has read every attribute within the file: none is larger.)
+std::vector<Imf::Header> headers_as_the_decoder_reads(const std::string& path, int parts) {
+    Imf::StdIFStream in(path.c_str());
+    int magic = 0, version = 0;
+    Imf::Xdr::read<Imf::StreamIO>(in, magic);
+    Imf::Xdr::read<Imf::StreamIO>(in, version);
+    std::vector<Imf::Header> headers;
+    while (static_cast<int>(headers.size()) < parts) {
+        headers.emplace_back();
+        headers.back().readFrom(in, version);
+        if (!Imf::isMultiPart(version)) break;
+        char next = 0;
+        in.read(&next, 1);
+        if (next == 0) break;  // an empty header ends a multi-part file's list
+        in.seekg(in.tellg() - 1);
+    }
+    return headers;
 }
 
 }  // namespace
@@ -170,9 +196,47 @@ ExrLayout check_exr_header(const std::string& path) {
                              " bytes can encode (damaged?)");
 
     // The chunks' offsets: 8 bytes each in the file, for every part (OpenEXR reads every part's
-    // table); a chunkCount attribute must be the data window's.
+    // table); a chunkCount attribute must be the data window's. And the C++ library, which
+    // decodes, must have read the same sizes (an attribute given twice: each keeps another).
+    std::vector<Imf::Header> decoder;
+    try {
+        decoder = headers_as_the_decoder_reads(path, layout.parts);
+    } catch (...) {
+        rethrow_as_input_error(path, "cannot read EXR");
+    }
+    if (static_cast<int>(decoder.size()) != layout.parts)
+        fail("", "OpenEXR's two libraries read " + std::to_string(layout.parts) + " and " +
+                     std::to_string(decoder.size()) + " parts (damaged?)");
     int64_t all_chunks = 0;
     for (int part = 0; part < layout.parts; ++part) {
+        const auto differs = [&](const char* field) {
+            fail(field, "is given twice, or read differently by OpenEXR's two libraries, in part " +
+                            std::to_string(part) + " (damaged?)");
+        };
+        const Imf::Header& d = decoder[static_cast<size_t>(part)];
+        exr_attr_box2i_t box;
+        check(exr_get_data_window(core.context, part, &box));
+        const Imath::Box2i& dw = d.dataWindow();
+        if (dw.min.x != box.min.x || dw.min.y != box.min.y || dw.max.x != box.max.x ||
+            dw.max.y != box.max.y)
+            differs("dataWindow");
+        exr_compression_t codec;
+        check(exr_get_compression(core.context, part, &codec));
+        if (static_cast<int>(d.compression()) != static_cast<int>(codec)) differs("compression");
+        const exr_attr_chlist_t* list = nullptr;
+        check(exr_get_channels(core.context, part, &list));
+        int count = 0;
+        for (auto c = d.channels().begin(); c != d.channels().end(); ++c) ++count;
+        if (!list || count != list->num_channels) differs("channels");
+        exr_storage_t kind;
+        check(exr_get_storage(core.context, part, &kind));
+        if (kind == EXR_STORAGE_TILED || kind == EXR_STORAGE_DEEP_TILED) {
+            uint32_t x_size = 0, y_size = 0;
+            check(exr_get_tile_descriptor(core.context, part, &x_size, &y_size, nullptr, nullptr));
+            if (!d.hasTileDescription() || d.tileDescription().xSize != x_size ||
+                d.tileDescription().ySize != y_size)
+                differs("tiles");
+        }
         int32_t chunks = 0;
         check(exr_get_chunk_count(core.context, part, &chunks));
         int32_t stated = 0;
@@ -181,6 +245,7 @@ ExrLayout check_exr_header(const std::string& path) {
             fail("chunkCount", "is " + std::to_string(stated) + ", but part " +
                                    std::to_string(part) + "'s data window makes " +
                                    std::to_string(chunks) + " chunks");
+        if (d.hasChunkCount() && d.chunkCount() != chunks) differs("chunkCount");
         all_chunks += chunks;
     }
     if (8 * all_chunks > file_bytes)
