@@ -32,8 +32,10 @@ struct ExrLayout {
 // is empty, over 8,388,608 pixels on a side, or of 2^31 pixels or more; more channel samples
 // than a file of this size can encode (kMaxSamplesPerByte per byte), counting a whole chunk or
 // tile where OpenEXR allocates one; more chunks than the file has room for their offsets (8
-// bytes each); a chunkCount attribute other than the data window's. Throws an InputError naming
-// the file and the attribute (field "" for what OpenEXR's parser refused, with its message).
+// bytes each); a chunkCount attribute other than the data window's; sizes that the C++ library,
+// which decodes and allocates, reads otherwise (an attribute given twice: OpenEXRCore keeps the
+// first, the C++ library the last). Throws an InputError naming the file and the attribute
+// (field "" for what OpenEXR's parser refused, with its message).
 ExrLayout check_exr_header(const std::string& path);
 
 // The most channel samples a byte of an EXR file can encode, in any codec: DWAA and DWAB keep an

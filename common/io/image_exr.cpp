@@ -128,11 +128,12 @@ ExrLayout check_exr_header(const std::string& path) {
     init.max_tile_width = init.max_tile_height = static_cast<int>(kMaxSide);
     CoreContext core;
     core_message.clear();
-    if (exr_start_read(&core.context, path.c_str(), &init) != EXR_ERR_SUCCESS)
-        fail("", "cannot read EXR: " + core_message);
     const auto check = [&](exr_result_t rc) {
-        if (rc != EXR_ERR_SUCCESS) fail("", "cannot read EXR: " + core_message);
+        if (rc != EXR_ERR_SUCCESS)
+            fail("", "cannot read EXR: " +
+                         (core_message.empty() ? exr_get_default_error_message(rc) : core_message));
     };
+    check(exr_start_read(&core.context, path.c_str(), &init));
 
     ExrLayout layout;
     check(exr_get_count(core.context, &layout.parts));
