@@ -3,6 +3,7 @@
 // stops the run before it renders (see app.h).
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 
 #include "io/image.h"
 #include "io/input_error.h"
@@ -66,6 +67,7 @@ Image read_reference(const CommonOptions& o, const Scene& scene) {
     Image reference;
     try {
         reference = read_exr(o.reference);
+        for (const std::string& note : reference.notes) std::cerr << "note: " << note << "\n";
     } catch (const std::runtime_error& e) {
         throw InputError("command line", 0, "--reference", e.what());
     }

@@ -132,7 +132,7 @@ refusals)
     cp "$WORK/b.exr" "$WORK/flipped.exr"
     python3 -c 'import sys; p, at = sys.argv[1], int(sys.argv[2]); b = bytearray(open(p, "rb").read()); b[at] ^= 0xff; open(p, "wb").write(b)' "$WORK/flipped.exr" $((size - 2000))
     expect_refusal "a damaged part" "$WORK/flipped.exr" "${M[@]}" "$WORK/a.exr" "$WORK/flipped.exr" --out "$WORK/x"
-    # A header changed: the rays' count (a digit for another) passes tinyexr, not the checksum.
+    # A header changed: the rays' count (a digit for another) passes OpenEXR, not the checksum.
     cp "$WORK/b.exr" "$WORK/edited.exr"
     offset=$(grep -abo 'lessons.rays' "$WORK/edited.exr" | head -1 | cut -d: -f1)
     value_at=$((offset + ${#LESSONS_RAYS_NAME} + 1 + 7 + 4))  # name, NUL, "string", NUL, size
