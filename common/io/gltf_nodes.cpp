@@ -167,8 +167,8 @@ struct Walk {
                    "names light " + std::to_string(index) + ", which does not exist");
         const tinygltf::Light& l = m.lights[index];
         if (l.type != "point" && l.type != "spot" && l.type != "directional")
-            r.fail(lf, "is a '" + l.type +
-                           "' light: glTF's lights are point, spot and directional");
+            r.fail(lf,
+                   "is a '" + l.type + "' light: glTF's lights are point, spot and directional");
         // glTF gives a point or spot light's luminous intensity in candela (lm/sr), a directional
         // light's illuminance in lux (lm/m^2); at 683 lm/W they are cd / 683 W/sr and lux / 683
         // W/m^2 (docs/interop.md).
