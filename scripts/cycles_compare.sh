@@ -10,7 +10,7 @@
 #      so that a systematic difference stands out from noise.
 # Cycles is built by scripts/blender/toml_to_blender.py (CPU, no denoising, no adaptive
 # sampling, no clamping, a one-pixel box filter). The lesson is 05_bidirectional when the scene
-# has point lights and mirrors or glass (caustics lesson 4 cannot find), else
+# has point, spot or directional lights and mirrors or glass (caustics lesson 4 cannot find), else
 # 04_rendering_equation; --lesson 4, 5 or 6 chooses (6: its default method, vertex connection
 # and merging). Images are EXR in DIR (default
 # out/cycles/SCENE_NAME/); an image that exists is not rendered again (delete it to redo it).
@@ -68,7 +68,7 @@ import json, sys
 s = json.load(open(sys.argv[1]))
 used = {t["material"] for t in s["spheres"] + s["quads"]} | set(s["mesh"]["materials"])
 delta = any(s["materials"][i]["type"] in ("mirror", "glass") for i in used)
-print(5 if s["point_lights"] and delta else 4)' "$JSON")"
+print(5 if (s["point_lights"] or s.get("directional_lights")) and delta else 4)' "$JSON")"
 fi
 case "$LESSON" in 4) PROGRAM="$BIN/04_rendering_equation" ;; 5) PROGRAM="$BIN/05_bidirectional" ;;
     6) PROGRAM="$BIN/06_photon_mapping" ;; esac

@@ -180,7 +180,7 @@ GltfScene read_gltf(const std::string& path, uint64_t max_bytes) {
         scene.materials.push_back(gltf_reader::map_material(
             r, model.materials[i], "materials[" + std::to_string(i) + "]", scene.notes));
     const int degenerate = gltf_reader::place_nodes(r, gltf_reader::root_nodes(r), scene);
-    if (scene.primitives.empty() && scene.lights.empty())
+    if (scene.primitives.empty() && scene.lights.empty() && scene.directional_lights.empty())
         r.fail("meshes", "the scene has no triangles and no lights");
     add_notes_and_files(r, degenerate, scene);
     return scene;

@@ -1,6 +1,7 @@
 // glTF 2.0 scenes (.gltf with external or embedded buffers, and .glb), through Debian's
 // tinygltf: triangles with their node transforms, materials mapped onto the suite's
-// (docs/interop.md), KHR_lights_punctual point lights, and the first perspective camera.
+// (docs/interop.md), KHR_lights_punctual point, spot and directional lights, and the first
+// perspective camera.
 #pragma once
 
 #include <optional>
@@ -37,7 +38,10 @@ struct GltfCamera {
 struct GltfScene {
     std::vector<GltfPrimitive> primitives;
     std::vector<Material> materials;  // the file's, mapped; the last is the default material
-    std::vector<PointLight> lights;   // in the glTF scene's space
+    // In the glTF scene's space; a spot's axis and a directional light's direction are the
+    // node's -z in float, not yet normalised (placing the file normalises them).
+    std::vector<PointLight> lights;  // point and spot lights
+    std::vector<DirectionalLight> directional_lights;
     std::optional<GltfCamera> camera;
     std::vector<std::string> notes;   // what was approximated or ignored
     std::vector<std::string> files;   // the external buffers and images it names
@@ -47,7 +51,7 @@ struct GltfScene {
 // Reads the file and every file it names (each a regular file of at most max_bytes). Throws
 // InputError naming the file and the glTF field ("accessors[3]", "meshes[0].primitives[1]") for
 // anything wrong: truncated buffers, accessors out of range, non-finite values, unsupported
-// primitive modes, spot and directional lights.
+// primitive modes, spot cones outside (0, 90] degrees.
 GltfScene load_gltf(const std::string& path, uint64_t max_bytes);
 
 // Whether a scene file is glTF (by its extension: .gltf or .glb). (io/gltf_scene.cpp)

@@ -1,5 +1,5 @@
 // A glTF scene's node hierarchy walked: each node's transform composed with its parents' (in
-// double), its meshes placed, the first perspective camera taken and its point lights placed.
+// double), its meshes placed, the first perspective camera taken and its lights placed.
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -157,6 +157,8 @@ struct Walk {
         scene.camera = cam;
     }
 
+    // A KHR_lights_punctual light placed by its node: a point light at the node's origin; a spot
+    // too, pointing along the node's -z; a directional light shining along the node's -z.
     void light(int index, const glm::dmat4& world, const std::string& field) {
         const tinygltf::Model& m = r.model();
         const std::string lf = "KHR_lights_punctual.lights[" + std::to_string(index) + "]";
@@ -164,24 +166,55 @@ struct Walk {
             r.fail(field + ".KHR_lights_punctual",
                    "names light " + std::to_string(index) + ", which does not exist");
         const tinygltf::Light& l = m.lights[index];
-        if (l.type != "point")
-            r.fail(lf, "is a " + l.type +
-                           " light: only point lights are supported (the lessons have no " +
-                           l.type + " lights; make it a point light or an emissive surface)");
-        // glTF gives a point light's luminous intensity in candela (lm/sr); at 683 lm/W, the
-        // radiant intensity is cd / 683 W/sr (docs/interop.md).
-        const Color intensity = rgb(l.color, Color(1.0f)) * static_cast<float>(l.intensity / 683.0);
-        if (!is_finite(intensity) || intensity.x < 0.0f || intensity.y < 0.0f || intensity.z < 0.0f)
+        if (l.type != "point" && l.type != "spot" && l.type != "directional")
+            r.fail(lf,
+                   "is a '" + l.type + "' light: glTF's lights are point, spot and directional");
+        // glTF gives a point or spot light's luminous intensity in candela (lm/sr), a directional
+        // light's illuminance in lux (lm/m^2); at 683 lm/W they are cd / 683 W/sr and lux / 683
+        // W/m^2 (docs/interop.md).
+        const Color radiometric =
+            rgb(l.color, Color(1.0f)) * static_cast<float>(l.intensity / 683.0);
+        if (!is_finite(radiometric) || radiometric.x < 0.0f || radiometric.y < 0.0f ||
+            radiometric.z < 0.0f)
             r.fail(lf, "its colour and intensity must be finite and not negative");
+        // The node's -z in the scene's space, where a spot points and a sun shines: rounded to
+        // float and not yet normalised (add_gltf normalises it once placed, as the scene file's
+        // directions are).
+        const Vec3 axis = Vec3(glm::dvec3(world * glm::dvec4(0, 0, -1, 0)));
+        if (l.type != "point" && !(is_finite(axis) && glm::length(axis) > 0.0f))
+            r.fail(field, "turns its light's -z into no direction (a zero or non-finite scale)");
+        if (l.type == "directional") {
+            scene.directional_lights.push_back({axis, radiometric});
+            return;
+        }
         const glm::dvec3 at = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
         if (!(std::fabs(at.x) <= kMaxCoordinate && std::fabs(at.y) <= kMaxCoordinate &&
               std::fabs(at.z) <= kMaxCoordinate))
             r.fail(field, "places its light beyond 1e9 (or not at a finite point)");
-        scene.lights.push_back({Vec3(at), intensity});
+        PointLight light{Vec3(at), radiometric};
+        if (l.type == "spot") light.cone = spot_cone(l, axis, lf);
+        scene.lights.push_back(light);
         scene.bounds.expand(Vec3(at));
         if (l.range > 0.0)
             scene.notes.push_back("glTF: " + lf + ": range " + fixed(l.range) +
                                   " ignored (light falls off as 1/d^2 without end)");
+    }
+
+    // A spot's cone: glTF's outerConeAngle (default pi/4) is the edge, its innerConeAngle (default
+    // 0) where the fade starts. glTF recommends a fade of t^2 in the cosine; the suite's is
+    // smoothstep, t^2 (3 - 2t) (SpotCone::falloff): noted.
+    SpotCone spot_cone(const tinygltf::Light& l, const Vec3& axis, const std::string& lf) {
+        const double outer = l.spot.outerConeAngle, inner = l.spot.innerConeAngle;
+        const double half_pi = 1.57079632679489661923;
+        if (!(outer > 0.0 && outer <= half_pi))
+            r.fail(lf + ".spot.outerConeAngle", "is " + fixed(outer) + ", outside (0, pi/2]");
+        if (!(inner >= 0.0 && inner <= outer))
+            r.fail(lf + ".spot.innerConeAngle",
+                   "is " + fixed(inner) + ", outside [0, outerConeAngle " + fixed(outer) + "]");
+        scene.notes.push_back("glTF: " + lf +
+                              " (spot): fades between innerConeAngle and outerConeAngle as "
+                              "smoothstep in the cosine, not glTF's recommended square");
+        return {axis, static_cast<float>(std::cos(outer)), static_cast<float>(std::cos(inner))};
     }
 };
 

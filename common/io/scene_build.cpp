@@ -220,7 +220,7 @@ std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const S
 }
 
 // A glTF placed by its shape's transform: each primitive's node transform, then the shape's, in
-// double, rounded once; its materials (or the shape's), and its point lights.
+// double, rounded once; its materials (or the shape's), and its lights.
 void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
               const InputLimits& limits, GltfCache& cache, TextureCache& textures) {
     const std::shared_ptr<const GltfScene> g =
@@ -265,13 +265,22 @@ void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
         }
         if (!triangles.empty()) scene.add_mesh(positions, normals, p.uvs, triangles);
     }
+    // Lights placed by the shape's transform; a spot's axis and a sun's direction turned by it
+    // (rounded to float, then normalised, as the scene file's directions are).
+    auto turned = [&](const Vec3& direction) {
+        return glm::normalize(Vec3(s.transform.vector(glm::dvec3(direction))));
+    };
     for (const PointLight& l : g->lights) {
         const glm::dvec3 q = s.transform.point(glm::dvec3(l.position));
         if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
             throw InputError(s.where.file, s.where.line, s.where.field,
                              s.file + ": a light is placed beyond 1e9");
-        scene.add_point_light({Vec3(q), l.intensity});
+        PointLight placed{Vec3(q), l.intensity, l.cone};
+        if (placed.cone) placed.cone->axis = turned(l.cone->axis);
+        scene.add_point_light(placed);
     }
+    for (const DirectionalLight& l : g->directional_lights)
+        scene.add_directional_light({turned(l.direction), l.irradiance});
     if (flattened > 0)
         scene.notes.push_back(s.file + ": " + std::to_string(flattened) +
                               " triangle(s) of zero area once placed, skipped");

@@ -20,6 +20,13 @@ Cycles would render, after modifiers and geometry nodes, in world coordinates:
                 them (one-sided when its strength is multiplied by 1 - Backfacing), Checker and
                 Image Texture colours through a Mapping node's scale
   point lights  intensity = colour x power / (4 pi) W/sr (Cycles' own conversion)
+  spot lights   spots: the same intensity on the axis, cone_angle = spot_size / 2, cone_blend =
+                spot_blend; Cycles 3.x also multiplies a spot by the cosine to its axis, which
+                the lessons do not (noted; toml_to_blender's spots undo it in their shader)
+  suns          directional lights: irradiance = colour x strength W/m^2; an angle > 0 becomes
+                0 (noted)
+  area lights   square and rectangle: emitting quads, one-sided towards the light's -Z, of
+                radiance colour x power / (4 area) (Cycles 3.x); disc and ellipse are refused
   world         a Background colour x strength, or an Environment Texture (an EXR; other
                 images are written as EXR next to the scene)
   camera        perspective: position, direction, up, vertical field of view, image size
@@ -309,6 +316,7 @@ class Exporter:
         self.out_dir = os.path.dirname(self.out_path)
         self.mesh_dir = os.path.join(self.out_dir, "meshes")
         self.shapes, self.lights, self.used_materials = [], [], {}
+        self.area_materials = {}  # name: the TOML fields of an area light's emitting quad
         self.obj_names = set()
 
     def material_name(self, material):
@@ -446,16 +454,80 @@ class Exporter:
 
     def add_light(self, obj, matrix):
         light = obj.data
-        if light.type != "POINT":
-            ignored(f"the {light.type.lower()} light '{obj.name}' (the lessons have point lights "
-                    "and emissive surfaces)")
+        kind = light.type
+        # Spots and suns shine along their local -Z.
+        axis = (matrix.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
+        if kind == "SUN":
+            if light.angle > 0.0:
+                note(f"sun '{obj.name}': angle {math.degrees(light.angle):g} degrees becomes 0 (a "
+                     "hard sun: the lessons' directional light has no angular size)")
+            irradiance = [c * light.energy for c in light.color]  # Cycles: strength in W/m^2
+            self.lights.append("[[lights]]\ntype = \"directional\"\n"
+                               f"direction = {vec(ours(axis))}\n"
+                               f"irradiance = {vec(irradiance)}")
+            return
+        if kind == "AREA":
+            self.add_area_light(obj, matrix, axis)
             return
         if light.shadow_soft_size > 0.0:
-            note(f"point light '{obj.name}': radius {light.shadow_soft_size:g} becomes 0")
+            note(f"{kind.lower()} light '{obj.name}': radius {light.shadow_soft_size:g} becomes 0")
         intensity = [c * light.energy * LIGHT_POWER_TO_INTENSITY for c in light.color]
-        self.lights.append("[[lights]]\ntype = \"point\"\n"
-                           f"position = {vec(ours(matrix.translation))}\n"
-                           f"intensity = {vec(intensity)}")
+        text = (f"[[lights]]\ntype = \"{'spot' if kind == 'SPOT' else 'point'}\"\n"
+                f"position = {vec(ours(matrix.translation))}\n"
+                f"intensity = {vec(intensity)}")
+        if kind == "SPOT":
+            if light.get("lessons_spot") != "cosine undone":
+                note(f"spot light '{obj.name}': Cycles 3.x multiplies a spot's intensity by the "
+                     "cosine to its axis, the lessons do not: the lessons' spot is brighter off "
+                     "its axis (by 1 / cos, 1.15 at 30 degrees)")
+            s = matrix.to_scale()
+            if max(s) - min(s) > 1e-6 * max(s):
+                note(f"spot light '{obj.name}': its uneven scale (an elliptic cone) is left out")
+            text += (f"\ndirection = {vec(ours(axis))}\n"
+                     f"cone_angle = {num(math.degrees(0.5 * light.spot_size))}\n"
+                     f"cone_blend = {num(light.spot_blend)}")
+        self.lights.append(text)
+
+    def add_area_light(self, obj, matrix, axis):
+        """A square or rectangular area light as an emitting quad, one-sided towards the light's
+        -Z: Cycles 3.x gives an area light of power P and area A the radiance P / (4 A)
+        W/(sr m^2) (measured against an emitting mesh: docs/interop.md)."""
+        light = obj.data
+        if light.shape not in ("SQUARE", "RECTANGLE"):
+            raise SystemExit(f"blender_to_toml: the {light.shape.lower()} area light '{obj.name}' "
+                             "cannot be exported: the lessons have quads, not discs; make it a "
+                             "square or rectangle area light (or an emitting mesh)")
+        if getattr(light, "spread", math.pi) < math.pi - 1e-6:
+            note(f"area light '{obj.name}': spread {math.degrees(light.spread):g} degrees becomes "
+                 "180 (the emitting quad is Lambertian)")
+        if getattr(light.cycles, "is_portal", False):
+            ignored(f"the light portal '{obj.name}' (it emits nothing)")
+            return
+        sx = light.size
+        sy = light.size if light.shape == "SQUARE" else light.size_y
+        corner = matrix @ Vector((-0.5 * sx, -0.5 * sy, 0.0))
+        edge_u = matrix @ Vector((0.5 * sx, -0.5 * sy, 0.0)) - corner
+        edge_v = matrix @ Vector((-0.5 * sx, 0.5 * sy, 0.0)) - corner
+        if edge_u.cross(edge_v).dot(axis) < 0.0:  # the quad's front (u x v) must face -Z
+            edge_u, edge_v = edge_v, edge_u
+        area = edge_u.cross(edge_v).length
+        if not area > 0.0:
+            ignored(f"the area light '{obj.name}' of zero area")
+            return
+        radiance = [c * light.energy / (4.0 * area) for c in light.color]
+        note(f"area light '{obj.name}': an emitting quad of radiance {max(radiance):.6g}: unlike "
+             "Cycles' light it is seen by the camera and casts shadows (it is black, both sides)")
+        name, k = f"area_light_{obj.name}", 1
+        taken = {m.name_full for m in bpy.data.materials} | set(self.area_materials)
+        while name in taken:
+            k += 1
+            name = f"area_light_{obj.name}_{k}"
+        self.area_materials[name] = ('type = "diffuse"\nalbedo = [0.0, 0.0, 0.0]\n'
+                                     f"emission = {vec(radiance)}")
+        self.shapes.append("[[shapes]]\ntype = \"quad\"\n"
+                           f"material = {toml_string(name)}\n"
+                           f"corner = {vec(ours(corner))}\nedge_u = {vec(ours(edge_u))}\n"
+                           f"edge_v = {vec(ours(edge_v))}")
 
     def collect(self, depsgraph):
         for inst in depsgraph.object_instances:
@@ -570,7 +642,7 @@ def main():
     os.makedirs(exporter.out_dir, exist_ok=True)
     exporter.collect(bpy.context.evaluated_depsgraph_get())
     if not exporter.shapes and not exporter.lights:
-        raise SystemExit("blender_to_toml: nothing to export: no meshes, points or point lights")
+        raise SystemExit("blender_to_toml: nothing to export: no meshes, points or lights")
     reader = MaterialReader(exporter.out_dir)
     materials = []
     for key, material in exporter.used_materials.items():
@@ -579,6 +651,8 @@ def main():
                              'albedo = [0.8, 0.8, 0.8]')
         else:
             materials.append(reader.read(material))
+    for name, fields in exporter.area_materials.items():
+        materials.append(f"[materials.{toml_key(name)}]\n{fields}")
     source = bpy.data.filepath or "an unsaved Blender scene"
     parts = [f"# Exported from {source} by scripts/blender/blender_to_toml.py.",
              f"description = {toml_string('Exported from Blender: ' + scene.name)}",

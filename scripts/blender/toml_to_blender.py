@@ -34,6 +34,10 @@ as "toml_to_blender: approximated: ..." (docs/interop.md has the table).
   texture       Image Texture, linear interpolation, repeat or extend; an 8-bit image decoded
                 to linear floats first (interpolated after decoding, as ours)
   point light   a point light of radius 0: Cycles' intensity is power / (4 pi) W/sr
+  spot light    a spot of radius 0, spot_size twice the cone angle, spot_blend the cone blend,
+                power 4 pi I; its shader divides the strength by the cosine to the axis, which
+                Cycles 3.x multiplies a spot by and ours does not: exact
+  directional   a sun of angle 0, strength the irradiance (W/m^2)
   background    the world's Background: a colour, or the map as an Environment Texture
                 (closest texel: the lessons' map is piecewise constant)
   camera        perspective, vertical field of view, the image size
@@ -433,19 +437,80 @@ def add_spheres(scene, spheres, materials, export):
         obj["lessons_shape"] = "spheres"
 
 
+def point_along(obj, direction):
+    """Turns a Blender light so that its local -Z (where spots and suns shine) is `direction`
+    (ours, y-up)."""
+    obj.rotation_mode = "QUATERNION"
+    obj.rotation_quaternion = Vector(to_blender(direction)).normalized().to_track_quat("-Z", "Y")
+
+
+def undo_spot_cosine(data):
+    """Cycles 3.x gives a spot light of power P the intensity P / (4 pi) cos(a) smoothstep(...)
+    at the angle a from its axis (measured: docs/interop.md), where ours has no cos(a). The
+    light's own shader divides its strength by cos(a): the Texture Coordinate node's Normal is,
+    in a light's shader, the direction of emission in the light's own frame, whose axis is -Z."""
+    data.use_nodes = True
+    tree = data.node_tree
+    emission = tree.nodes["Emission"]
+    coordinates = tree.nodes.new("ShaderNodeTexCoord")
+    cosine = tree.nodes.new("ShaderNodeVectorMath")
+    cosine.operation = "DOT_PRODUCT"
+    cosine.inputs[1].default_value = (0.0, 0.0, -1.0)
+    tree.links.new(coordinates.outputs["Normal"], cosine.inputs[0])
+    floor = tree.nodes.new("ShaderNodeMath")
+    floor.operation = "MAXIMUM"  # outside the cone Cycles gives 0 anyway; no division by 0
+    floor.inputs[1].default_value = 1e-6
+    tree.links.new(cosine.outputs["Value"], floor.inputs[0])
+    strength = tree.nodes.new("ShaderNodeMath")
+    strength.operation = "DIVIDE"
+    strength.inputs[0].default_value = 1.0  # the light's power stays in data.energy
+    tree.links.new(floor.outputs[0], strength.inputs[1])
+    tree.links.new(strength.outputs[0], emission.inputs["Strength"])
+    data["lessons_spot"] = "cosine undone"  # blender_to_toml reads the spot back as exact
+
+
 def add_point_lights(scene, lights):
+    """Point lights, and spots (a point light with a cone): Blender's power P gives the
+    intensity P / (4 pi) W/sr (on the axis, for a spot); spot_size is the cone's full angle,
+    spot_blend its blend: Cycles' smoothstep runs over spot_blend (1 - cos(spot_size / 2)) in
+    cos, as ours over cone_blend (1 - cos(cone_angle))."""
     for i, light in enumerate(lights):
         intensity = light["intensity"]
         peak = max(intensity)
         if peak <= 0.0:
             print(f"toml_to_blender: point light {i} is black: left out")
             continue
-        data = bpy.data.lights.new(f"point{i}", "POINT")
+        spot = light.get("spot")
+        name = f"spot{i}" if spot else f"point{i}"
+        data = bpy.data.lights.new(name, "SPOT" if spot else "POINT")
         data.color = tuple(c / peak for c in intensity)
         data.energy = 4.0 * math.pi * peak  # Cycles: intensity = power / (4 pi) W/sr
         data.shadow_soft_size = 0.0
-        obj = link_object(f"point{i}", data, scene)
+        obj = link_object(name, data, scene)
         obj.location = to_blender(light["position"])
+        if spot:
+            data.spot_size = 2.0 * math.radians(spot["cone_angle"])
+            data.spot_blend = spot["cone_blend"]
+            data.show_cone = True
+            point_along(obj, spot["direction"])
+            undo_spot_cosine(data)
+
+
+def add_directional_lights(scene, lights):
+    """Directional lights as Blender's suns of angle 0: a sun's strength is the irradiance, in
+    W/m^2, on a surface facing it (measured: docs/interop.md)."""
+    for i, light in enumerate(lights):
+        irradiance = light["irradiance"]
+        peak = max(irradiance)
+        if peak <= 0.0:
+            print(f"toml_to_blender: directional light {i} is black: left out")
+            continue
+        data = bpy.data.lights.new(f"sun{i}", "SUN")
+        data.color = tuple(c / peak for c in irradiance)
+        data.energy = peak
+        data.angle = 0.0  # a hard sun, as ours
+        obj = link_object(f"sun{i}", data, scene)
+        point_along(obj, light["direction"])
 
 
 def set_world(scene, background):
@@ -552,6 +617,7 @@ def build(export, width=None, height=None, sphere_mesh=0):
         add_sphere_meshes(scene, as_mesh, materials, segments)
     add_spheres(scene, [s for s in spheres if not any(s is t for t in as_mesh)], materials, export)
     add_point_lights(scene, export["point_lights"])
+    add_directional_lights(scene, export.get("directional_lights", []))
     set_world(scene, export["background"])
     set_camera(scene, export["camera"], width or export["width"], height or export["height"],
                scene_extent(export))

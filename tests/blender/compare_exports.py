@@ -6,7 +6,8 @@ before and after a round trip TOML -> Blender -> TOML (tests/blender/round_trip.
 
 The same image size and camera; the same spheres, quads and triangles (in any order; a triangle
 up to a rotation of its vertices, which keeps its front side), each with the same material
-parameters, shading normals and texture coordinates; the same point lights and background.
+parameters, shading normals and texture coordinates; the same point and spot lights,
+directional lights and background.
 Positions agree to 1e-5 of the scene's size; colours and other numbers to 1e-5 (relative, above
 1); shading normals to 1e-4 (Blender stores them as 16-bit angles). Exit 1 naming the first differences; 0 when the two agree.
 """
@@ -202,9 +203,21 @@ def compare(a, b):
 
     centroid = lambda t: [sum(p[i] for p in t[0]) / 3.0 for i in range(3)]  # noqa: E731
     match("triangles", triangles(a), triangles(b), centroid, same_triangle, cell, diff)
+    def same_spot(p, q):
+        """Both without a cone, or the same cone: axis, angle (degrees) and blend."""
+        s, t = p.get("spot"), q.get("spot")
+        if s is None or t is None:
+            return s is None and t is None
+        return (close(s["direction"], t["direction"]) and close(s["cone_angle"], t["cone_angle"])
+                and close(s["cone_blend"], t["cone_blend"]))
+
     match("point lights", a["point_lights"], b["point_lights"], lambda p: p["position"],
           lambda p, q: close(p["position"], q["position"], size) and
-          close(p["intensity"], q["intensity"]), cell, diff)
+          close(p["intensity"], q["intensity"]) and same_spot(p, q), cell, diff)
+    # Directional lights have no position: matched by their direction.
+    match("directional lights", a.get("directional_lights", []), b.get("directional_lights", []),
+          lambda d: d["direction"], lambda d, e: close(d["direction"], e["direction"]) and
+          close(d["irradiance"], e["irradiance"]), 1e-3, diff)
     return diff.lines
 
 
@@ -223,7 +236,8 @@ def main():
     m = a["mesh"]
     print(f"{a['source']}: the same after the round trip ({len(a['spheres'])} spheres, "
           f"{len(a['quads'])} quads, {len(m['materials'])} triangles, "
-          f"{len(a['point_lights'])} point lights)")
+          f"{len(a['point_lights'])} point lights, "
+          f"{len(a.get('directional_lights', []))} directional lights)")
 
 
 if __name__ == "__main__":

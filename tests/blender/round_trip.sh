@@ -13,7 +13,7 @@ BIN="$(cd "$1" && pwd)"; shift
 BLENDER="${BLENDER:-blender}"
 command -v "$BLENDER" > /dev/null || { echo "blender not found: scripts/test.sh installs it (apt-get install blender python3-numpy)" >&2; exit 1; }
 SCENES=("$@")
-[ ${#SCENES[@]} -gt 0 ] || SCENES=("$ROOT"/scenes/*.toml "$ROOT"/scenes/hard/*.toml "$ROOT/tests/gltf/cubes.gltf")
+[ ${#SCENES[@]} -gt 0 ] || SCENES=("$ROOT"/scenes/*.toml "$ROOT"/scenes/hard/*.toml "$ROOT/tests/gltf/cubes.gltf" "$ROOT/tests/gltf/sun_and_spot.gltf")
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
 failed=0

@@ -236,8 +236,13 @@ def nan_position(g):
     g["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(raw)).decode()
 bad("gltf_nan_position", "meshes[0].primitives[0].POSITION: vertex 0 is not finite", nan_position)
 bad("gltf_lines", "meshes[2].primitives[0].mode: is lines (1): only triangles", lambda g: g["meshes"][2]["primitives"][0].update(mode=1))
-bad("gltf_spot_light", "KHR_lights_punctual.lights[0]: is a spot light: only point lights are supported",
-    lambda g: g["extensions"]["KHR_lights_punctual"]["lights"][0].update(type="spot", spot={}))
+bad("gltf_spot_too_wide", "KHR_lights_punctual.lights[0].spot.outerConeAngle: is 2, outside (0, pi/2]",
+    lambda g: g["extensions"]["KHR_lights_punctual"]["lights"][0].update(type="spot", spot={"outerConeAngle": 2.0}))
+bad("gltf_spot_inner_above_outer", "KHR_lights_punctual.lights[0].spot.innerConeAngle: is 0.7, outside [0, outerConeAngle 0.6]",
+    lambda g: g["extensions"]["KHR_lights_punctual"]["lights"][0].update(
+        type="spot", spot={"innerConeAngle": 0.7, "outerConeAngle": 0.6}))
+bad("gltf_light_unknown_type", "KHR_lights_punctual.lights[0]: is a 'area' light: glTF's lights are point, spot and directional",
+    lambda g: g["extensions"]["KHR_lights_punctual"]["lights"][0].update(type="area"))
 bad("gltf_index_out_of_range", "meshes[0].primitives[0].indices: index 6 is 4, past the 4 vertices",
     lambda g: g["meshes"][0]["primitives"][0]["attributes"].update(POSITION=2))
 
@@ -261,3 +266,55 @@ def deep(g):
     for _ in range(100): v = [v]
     g["extras"] = v
 bad("gltf_deep_json", "its JSON nests deeper than 64 levels", deep)
+
+# A spot and a sun (KHR_lights_punctual) in place of the point light: sun_and_spot.gltf, and the
+# same in TOML (sun_and_spot.toml), mirrored too. The spot hangs in the scaled group (its -z
+# turned to -y, scaled by 2: the reader normalises it), pointing down at the cubes; the sun's node
+# turns -z to (0.6, -0.8, 0). glTF gives the spot in candela and the sun in lux (lm/m^2): / 683.
+INNER, OUTER = 0.3, 0.6  # radians
+g = json.loads(json.dumps(gltf))
+g["extensions"]["KHR_lights_punctual"]["lights"] = [
+    {"name": "spot", "type": "spot", "color": [1.0, 0.9, 0.8], "intensity": 683 * 8,
+     "spot": {"innerConeAngle": INNER, "outerConeAngle": OUTER}},
+    {"name": "sun", "type": "directional", "color": [0.9, 0.95, 1.0], "intensity": 683 * 2}]
+# column-major: x -> x, y -> -z, z -> y (turned -90 degrees about x): -z goes to -y
+g["nodes"].append({"name": "spot", "matrix": [1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0.5, 1.25, 0.75, 1],
+                   "extensions": {"KHR_lights_punctual": {"light": 0}}})
+g["nodes"][0]["children"].append(len(g["nodes"]) - 1)
+# the bulb's node becomes the sun: x -> z, y -> (0.8, 0.6, 0), z -> (-0.6, 0.8, 0)
+g["nodes"][4] = {"name": "sun", "matrix": [0, 0, 1, 0, 0.8, 0.6, 0, 0, -0.6, 0.8, 0, 0, 0, 5, 0, 1],
+                 "extensions": {"KHR_lights_punctual": {"light": 1}}}
+with open(os.path.join(HERE, "sun_and_spot.gltf"), "w") as f:
+    json.dump(g, f, indent=1)
+blend = (math.cos(INNER) - math.cos(OUTER)) / (1.0 - math.cos(OUTER))
+lights = f'''[[lights]]
+type = "spot"
+position = [1.25, 3.25, 1.0]
+direction = [0.0, -1.0, 0.0]
+intensity = [8.0, 7.2, 6.4]
+cone_angle = {math.degrees(OUTER)!r}
+cone_blend = {blend!r}
+
+[[lights]]
+type = "directional"
+direction = [0.6, -0.8, 0.0]
+irradiance = [1.8, 1.9, 2.0]
+'''
+point = '''[[lights]]
+type = "point"
+position = [-1.5, 2.5, 1.5]
+intensity = [5.0, 5.0, 5.0]
+'''
+assert point in header
+with open(os.path.join(HERE, "sun_and_spot.toml"), "w") as f:
+    f.write(header.replace(point, lights).replace("The scene of cubes.gltf", "The scene of sun_and_spot.gltf").replace(
+        '"glTF test scene, as TOML"', '"glTF test scene with a spot and a sun, as TOML"') + scene_shapes([]))
+mirrored_lights = lights.replace("position = [1.25, 3.25, 1.0]", "position = [-1.25, 3.25, 1.0]").replace(
+    "direction = [0.6, -0.8, 0.0]", "direction = [-0.6, -0.8, 0.0]")
+with open(os.path.join(HERE, "sun_and_spot_mirrored.toml"), "w") as f:
+    f.write(mirrored.replace(point.replace("[-1.5, 2.5, 1.5]", "[1.5, 2.5, 1.5]"), mirrored_lights).replace(
+        "The scene of cubes.gltf", "The scene of sun_and_spot.gltf").replace(
+        "glTF test scene, as TOML", "glTF test scene with a spot and a sun, mirrored, as TOML"))
+with open(os.path.join(HERE, "sun_and_spot_placed_mirrored.toml"), "w") as f:
+    f.write(open(os.path.join(HERE, "cubes_placed_mirrored.toml")).read().replace("cubes", "sun_and_spot").replace(
+        "cubes_mirrored.toml", "sun_and_spot_mirrored.toml"))
