@@ -142,8 +142,9 @@ LightsJson lights_json(const Scene& scene) {
                     const double cos_outer = l.cone->cos_outer;
                     spot.put("cone_angle",
                              number(std::acos(cos_outer) * 180.0 / 3.14159265358979323846));
+                    const double width = 1.0 - cos_outer;  // > 0: the narrowest cone is 0.5 deg
                     spot.put("cone_blend",
-                             number((l.cone->cos_inner - cos_outer) / (1.0 - cos_outer)));
+                             number(width > 0.0 ? (l.cone->cos_inner - cos_outer) / width : 0.0));
                     o.put("spot", spot.str());
                 }
                 points.push_back(o.str());

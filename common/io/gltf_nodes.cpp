@@ -206,8 +206,10 @@ struct Walk {
     SpotCone spot_cone(const tinygltf::Light& l, const Vec3& axis, const std::string& lf) {
         const double outer = l.spot.outerConeAngle, inner = l.spot.innerConeAngle;
         const double half_pi = 1.57079632679489661923;
-        if (!(outer > 0.0 && outer <= half_pi))
-            r.fail(lf + ".spot.outerConeAngle", "is " + fixed(outer) + ", outside (0, pi/2]");
+        const double narrowest = kNarrowestSpotDegrees * half_pi / 90.0;
+        if (!(outer >= narrowest && outer <= half_pi))
+            r.fail(lf + ".spot.outerConeAngle",
+                   "is " + fixed(outer) + ", outside [" + fixed(narrowest) + ", pi/2]");
         if (!(inner >= 0.0 && inner <= outer))
             r.fail(lf + ".spot.innerConeAngle",
                    "is " + fixed(inner) + ", outside [0, outerConeAngle " + fixed(outer) + "]");

@@ -95,7 +95,7 @@ void for_each_table(TableReader& top, const std::string& file, const std::string
 // A spot's cone from its half-angle to the edge (degrees) and its blend: the fraction of the
 // cone's 1 - cos over which it fades to nothing (Blender's spot blend; SpotCone::falloff).
 SpotCone spot_cone(TableReader& l, const Vec3& direction) {
-    const double angle = l.number_in("cone_angle", 0.0, 90.0, true, false);
+    const double angle = l.number_in("cone_angle", kNarrowestSpotDegrees, 90.0, false, false);
     const double blend = l.number_in("cone_blend", 0.0, 1.0, false, false, 0.0);
     const double cos_outer = std::cos(angle * 3.14159265358979323846 / 180.0);
     const double cos_inner = cos_outer + blend * (1.0 - cos_outer);

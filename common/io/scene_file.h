@@ -62,6 +62,11 @@ struct ShapeDescription {
     std::shared_ptr<const struct GltfScene> gltf;
 };
 
+// The narrowest spot cone read (its half-angle to the edge, degrees; scene files and glTF): below
+// about 0.02 degrees a float's cosine is 1 (a spot of no power), and below half a degree 1 - cos
+// loses the precision its fade and power need. Blender's narrowest spot is 1 degree across.
+inline constexpr double kNarrowestSpotDegrees = 0.5;
+
 struct PointLightDescription {
     PointLight light;
     SourceLocation where;

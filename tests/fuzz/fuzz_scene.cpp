@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
         SceneDescription d = parse_scene_string(text, "fuzz.toml");
         std::erase_if(d.shapes, [](const ShapeDescription& s) { return !s.file.empty(); });
-        if (d.shapes.empty() && d.point_lights.empty()) return 0;
+        if (d.shapes.empty() && d.point_lights.empty() && d.directional_lights.empty()) return 0;
         const Scene scene = build_scene(d, {8, 8});
         for (int y = 0; y < 8; y += 3)
             for (int x = 0; x < 8; x += 3) {

@@ -236,7 +236,7 @@ def nan_position(g):
     g["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64.b64encode(bytes(raw)).decode()
 bad("gltf_nan_position", "meshes[0].primitives[0].POSITION: vertex 0 is not finite", nan_position)
 bad("gltf_lines", "meshes[2].primitives[0].mode: is lines (1): only triangles", lambda g: g["meshes"][2]["primitives"][0].update(mode=1))
-bad("gltf_spot_too_wide", "KHR_lights_punctual.lights[0].spot.outerConeAngle: is 2, outside (0, pi/2]",
+bad("gltf_spot_too_wide", "KHR_lights_punctual.lights[0].spot.outerConeAngle: is 2, outside [0.00872665, pi/2]",
     lambda g: g["extensions"]["KHR_lights_punctual"]["lights"][0].update(type="spot", spot={"outerConeAngle": 2.0}))
 bad("gltf_spot_inner_above_outer", "KHR_lights_punctual.lights[0].spot.innerConeAngle: is 0.7, outside [0, outerConeAngle 0.6]",
     lambda g: g["extensions"]["KHR_lights_punctual"]["lights"][0].update(
