@@ -46,32 +46,35 @@ shipped_reference_fits() {
 }
 
 # render_reference SCENE LESSON WIDTH HEIGHT SPP DIR: renders DIR/reference.exr (and
-# reference_variance.exr, the per-pixel variance of its mean; reference.png; reference.json,
-# its report) with independent samples and REFERENCE_SEED, printing the lesson's progress line
+# reference_variance.exr, the per-pixel variance of its mean; reference.png) with independent
+# samples and REFERENCE_SEED, printing the lesson's progress line
 # every 10% with the time left, then writes DIR/reference.toml, its provenance.
 render_reference() {
     local scene="$1" lesson="$2" width="$3" height="$4" spp="$5" dir="$6"
     mkdir -p "$dir"
+    local report
+    report="$(mktemp)"
     local args=(--scene "scenes/$scene.toml" --width "$width" --height "$height" --spp "$spp"
                 --seed "$REFERENCE_SEED" --sampler independent --out "$dir/reference"
-                --report "$dir/reference.json" --variance "$dir/reference_variance")
-    echo "references: $scene: rendering ($spp spp, ${width}x${height}, $lesson)"
-    # Its progress every 10%, with the time left, and any error it prints.
-    "$BIN/$lesson" "${args[@]}" 2>&1 |
-        sed -u -n -e "s/^render: /references: $scene: /p" -e '/error/p'
-    [ "${PIPESTATUS[0]}" = 0 ] || { echo "references: $scene: the render failed" >&2; exit 1; }
+                --variance "$dir/reference_variance")
+    # The commit, and whether the sources differ from it, as the render starts.
     local commit dirty
     commit="$(git -C "$ROOT" rev-parse HEAD 2>/dev/null || echo unknown)"
     dirty="$(git -C "$ROOT" status --porcelain -- common chapters scenes CMakeLists.txt 2>/dev/null | head -1)"
-    local report="$dir/reference.json"
+    echo "references: $scene: rendering ($spp spp, ${width}x${height}, $lesson)"
+    # Its progress every 10%, with the time left, and any error it prints.
+    "$BIN/$lesson" "${args[@]}" --report "$report" 2>&1 |
+        sed -u -n -e "s/^render: /references: $scene: /p" -e '/error/p'
+    [ "${PIPESTATUS[0]}" = 0 ] || { echo "references: $scene: the render failed" >&2; exit 1; }
     # Paths relative to the repository, so the command runs as written from its root.
     local command="build/bin/$lesson ${args[*]}"
     command="${command//$ROOT\//}"
     cat > "$dir/reference.toml" <<EOF
 # Provenance of reference.exr beside this file (and reference_variance.exr, the per-pixel
 # variance of its mean): the converged reference of scenes/$scene.toml that scripts/lessons.sh
-# and the studio measure error against. Written by scripts/references.sh; the test
-# shipped_references checks that today's code still renders the same image within its noise.
+# and the studio measure error against. Written by scripts/references.sh; the tests
+# ShippedReferences.* (tests/test_shipped_references.cpp) check that today's code still renders
+# the same image within the noise of both.
 scene = "scenes/$scene.toml"
 scene_files = "$(field "$report" scene_files)"
 lesson = "$lesson"
@@ -90,4 +93,5 @@ cpu = "$(sed -n 's/^model name[^:]*: //p' /proc/cpuinfo | head -1)"
 date = "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
 EOF
     echo "references: $scene: done in $(field "$report" seconds) s; provenance $dir/reference.toml"
+    rm -f "$report"
 }

@@ -86,7 +86,11 @@ std::string config_json(const Studio& studio, const std::string& bind, int port)
     for (size_t i = 0; i < studio.scenes().size(); ++i) {
         const SceneEntry& e = studio.scenes()[i];
         s += std::string(i ? ", " : "") + "{\"id\": " + json_quote(e.id) +
-             ", \"description\": " + json_quote(e.description) + "}";
+             ", \"description\": " + json_quote(e.description);
+        if (e.reference_width > 0)
+            s += ", \"reference_size\": [" + std::to_string(e.reference_width) + ", " +
+                 std::to_string(e.reference_height) + "]";
+        s += "}";
     }
     s += "], \"lessons\": [";
     for (size_t i = 0; i < studio.lessons().size(); ++i) {
@@ -188,7 +192,9 @@ struct ServerOptions {
     int port = 8642;
     std::string bind = "127.0.0.1";
     std::vector<std::pair<std::string, std::string>> folders;  // (label, folder) of scenes
-    std::string references = LESSONS_SOURCE_DIR "/out";
+    // The shipped references first, then those scripts/lessons.sh renders for other settings.
+    std::vector<std::string> references = {LESSONS_SOURCE_DIR "/references",
+                                           LESSONS_SOURCE_DIR "/out"};
     std::string cache = LESSONS_SOURCE_DIR "/out/studio";
     std::string page = LESSONS_SOURCE_DIR "/tools/studio/page";
     Limits limits;
@@ -208,7 +214,8 @@ void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& 
                    "Folders of scene files the page may choose from, each given once (default: "
                    "the suite's scenes/ and scenes/hard/); no other file can be chosen");
     app.add_option("--references", o.references,
-                   "Where scripts/lessons.sh wrote its references (<dir>/<scene>/reference.exr)")
+                   "Folders of references, <dir>/<scene>/reference.exr, looked for in order "
+                   "(repeat the flag): the shipped ones and those scripts/lessons.sh rendered")
         ->capture_default_str();
     app.add_option("--cache", o.cache, "Where the studio keeps the references it renders")
         ->capture_default_str();
