@@ -23,7 +23,7 @@
 #   --quick: tiny images, 0.3 s per run, under a minute; --thorough: 512 px, 30 s per run, and
 #   its own references (8192 spp, rendered once and cached in out/ with their provenance);
 #   --references: the default page, re-rendering the shipped references in references/ first
-#   (with new provenance files; about 10 minutes more on 2 cores).
+#   (with new provenance files; about 6 minutes more on 2 idle cores).
 set -euo pipefail
 
 MODE="${1:-default}"
@@ -122,7 +122,7 @@ for entry in "${SCENES[@]}"; do
     fi
     if [ -z "$reference_dir" ]; then
         reference_dir="$dir"
-        ref_from="rendered by scripts/lessons.sh $MODE (its provenance: out/$scene/reference.toml)"
+        ref_from="rendered by scripts/lessons.sh $MODE (its provenance: $scene/reference.toml beside this page)"
         key="$(cat "scenes/$scene.toml" "$BIN/$ref_lesson" | sha256sum | cut -c1-16)-$ref_lesson-$width-$height-$REFERENCE_SPP"
         if [ -f "$dir/reference.exr" ] && [ -f "$dir/reference_variance.exr" ] && [ "$(cat "$dir/reference.key" 2>/dev/null)" = "$key" ]; then
             echo "lessons: $scene: reusing the reference ($REFERENCE_SPP spp, $ref_lesson, out/$scene)"

@@ -243,8 +243,10 @@ TEST(Studio, ProbeGivesTheFurnacesIrradianceAndBrdf) {
 TEST(Studio, AShippedReferenceStartsTheChartAtOnce) {
     Limits limits = small_limits();
     limits.max_side = 512;
-    const Params p{{"scene", "scenes/cornell_spheres"}, {"lesson", "01_ray_casting"},
-                   {"--width", "256"},                  {"--height", "256"},
+    const Params p{{"scene", "scenes/cornell_spheres"},
+                   {"lesson", "01_ray_casting"},
+                   {"--width", "256"},
+                   {"--height", "256"},
                    {"--spp", "1"}};
     {
         Studio studio({{"scenes", kSource + "/scenes"}}, {kSource + "/references"},

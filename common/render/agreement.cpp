@@ -18,17 +18,17 @@ Agreement agreement(const Image& image, const Image& variance, const Image& refe
     if (block < 1) throw std::invalid_argument("agreement: block must be at least 1");
     for (const Image* other : {&variance, &reference, &reference_variance})
         if (other->width != image.width || other->height != image.height)
-            throw InputError(what, 0, "",
-                             "size " + std::to_string(image.width) + "x" +
-                                 std::to_string(image.height) +
-                                 " does not match the reference's and the variances' (" +
-                                 std::to_string(other->width) + "x" +
-                                 std::to_string(other->height) + ")");
+            throw InputError(
+                what, 0, "",
+                "size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                    " does not match the reference's and the variances' (" +
+                    std::to_string(other->width) + "x" + std::to_string(other->height) + ")");
     Agreement a;
     a.block = block;
     for (int by = 0; by < image.height; by += block)
         for (int bx = 0; bx < image.width; bx += block) {
-            const int x1 = std::min(bx + block, image.width), y1 = std::min(by + block, image.height);
+            const int x1 = std::min(bx + block, image.width),
+                      y1 = std::min(by + block, image.height);
             const double n = static_cast<double>(x1 - bx) * (y1 - by);
             for (int c = 0; c < 3; ++c) {
                 // Block means and the variances of those means: (1/n) sum m, (1/n^2) sum v.

@@ -38,12 +38,12 @@
 namespace lessons {
 
 struct Agreement {
-    int block = 0;          // side of a block, pixels (edge blocks may be smaller)
-    int terms = 0;          // K: blocks x channels with noise
-    double chi2 = 0.0;      // T, (2)
-    double chi2_z = 0.0;    // z_T, (3): standard normal if the renders agree
-    int beyond_3 = 0;       // terms with |z| > 3 (expected about 0.0027 K)
-    double worst_z = 0.0;   // the term of largest |z|, with its sign (image above: positive)
+    int block = 0;         // side of a block, pixels (edge blocks may be smaller)
+    int terms = 0;         // K: blocks x channels with noise
+    double chi2 = 0.0;     // T, (2)
+    double chi2_z = 0.0;   // z_T, (3): standard normal if the renders agree
+    int beyond_3 = 0;      // terms with |z| > 3 (expected about 0.0027 K)
+    double worst_z = 0.0;  // the term of largest |z|, with its sign (image above: positive)
     int worst_x = 0, worst_y = 0, worst_channel = 0;  // its block's top-left pixel, its channel
     int exact_terms = 0;       // blocks x channels without noise in either render
     int exact_mismatches = 0;  // of those, the ones whose means differ beyond float rounding

@@ -2,9 +2,10 @@
 // lessons.sh's (out/), found on disk; the studio's own, cached by what the scene was made of; or
 // one rendered in the background (lesson 5 at Limits::reference_spp), which every pane of that
 // scene, size and albedo takes when done.
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <cstdio>
-#include <toml++/toml.h>
 
 #include "io/input_file.h"
 #include "render/part.h"
