@@ -11,7 +11,7 @@ cmake -S "$ROOT" -B "$SAN" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILE
     -DLESSONS_SANITIZE=ON -DLESSONS_FUZZ=ON > /dev/null
 cmake --build "$SAN" --parallel "$(nproc)"
 cd "$SAN"
-# Leaks inside Debian's libraries (tinyexr's, on damaged files) are theirs: tests/lsan.supp.
+# Leaks inside Debian's libraries, if any, are theirs: tests/lsan.supp.
 export LSAN_OPTIONS="suppressions=$ROOT/tests/lsan.supp"
 for target in scene obj part gltf exr hdr; do
     corpus="$(mktemp -d)"

@@ -10,7 +10,7 @@ BUILD="${BUILD_DIR:-$ROOT/build}"
 PACKAGES=(
     cmake g++ make pkg-config
     libglm-dev libstb-dev libtinyobjloader-dev libgtest-dev
-    libtomlplusplus-dev libcli11-dev libtinyexr-dev libcpp-httplib-dev libtinygltf-dev
+    libtomlplusplus-dev libcli11-dev libopenexr-dev libcpp-httplib-dev libtinygltf-dev
     parallel
 )
 

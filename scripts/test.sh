@@ -13,8 +13,14 @@ fi
 # drives it with playwright-core from npm, installed by tests/studio/run.sh from its lock file);
 # the lessons run plots with gnuplot.
 install_missing_packages chromium gnuplot-nox
-# The Blender bridge's tests (slow) run Debian's Blender, whose Python needs numpy.
-if [ "${1:-}" != "--quick" ]; then install_missing_packages blender python3-numpy; fi
+# The package's tests make the .deb with CPack, which finds its dependencies with dpkg-shlibdeps
+# (dpkg-dev) and the programs among its files with file(1); util-linux's unshare hides the trees.
+install_missing_packages dpkg-dev file util-linux
+# The Blender bridge's tests (slow) run Debian's Blender, whose Python needs numpy; the live farm
+# tests (slow) start a single-node Slurm cluster (slurm-wlm, munge) and an sshd (openssh-server).
+if [ "${1:-}" != "--quick" ]; then
+    install_missing_packages blender python3-numpy slurm-wlm munge openssh-server
+fi
 command -v npm > /dev/null || install_missing_packages nodejs npm
 build_suite
 cd "$BUILD"

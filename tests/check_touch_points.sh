@@ -8,7 +8,7 @@
 #               enum's declaration); scripts/ naming a type as the scene format writes it
 #               ("diffuse", ...: the names in materials/material.h's facts_of);
 #   a light     C++ naming a kind (`LightKind::`, or the enum's declaration) or lesson 5's
-#               vertex flag (`.point_light`); scripts/ naming the export's `point_lights` or a
+#               vertex flags (`.point_light`, `.delta_light()`); scripts/ naming the export's `point_lights` or a
 #               Blender light's type (`light.type`, `lights.new`).
 # Fails, naming the file, when a file branches but is not listed, when a listed file does not
 # branch, or when a paragraph names a path (common/, chapters/, tools/, scripts/, docs/,
@@ -85,7 +85,7 @@ names="$(sed -n 's/.*\.name = "\([a-z_]*\)".*/\1/p' common/materials/material.h 
 [ -n "$names" ] || { echo "check_touch_points: no type names in common/materials/material.h" >&2; exit 2; }
 material_files="$({ cpp 'MaterialType::|enum class MaterialType'
                     scripts "\"($names)\""; } | sort -u)"
-light_files="$({ cpp 'LightKind::|enum class LightKind|\.point_light\b'
+light_files="$({ cpp 'LightKind::|enum class LightKind|\.point_light\b|\.delta_light\(\)'
                  scripts 'point_lights|light\.type|lights\.new'; } | sort -u)"
 
 status=0

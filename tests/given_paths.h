@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <optional>
 #include <span>
 #include <string>
@@ -45,6 +46,15 @@ inline Vertex point_light_at(const Vec3& p) {
     v.type = VertexType::Light;
     v.p = p;
     v.point_light = true;
+    return v;
+}
+
+// A directional light whose light comes from `dir` (towards it).
+inline Vertex directional_from(const Vec3& dir) {
+    Vertex v;
+    v.type = VertexType::Light;
+    v.p = glm::normalize(dir);
+    v.directional = true;
     return v;
 }
 
@@ -109,7 +119,7 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
     const int n = static_cast<int>(path.points.size()) + 2;
     const std::vector<Vertex>& camera = sub->camera;  // camera[j] is x_{n-1-j}
     auto delta = [&](int i) { return camera[n - 1 - i].bsdf->is_delta(); };  // 1 <= i <= n-2
-    const bool sky = path.light.infinite, point = path.light.point_light;
+    const bool sky = path.light.infinite, point = path.light.delta_light();
     auto record = [&](const std::string& name, float w) {
         if (out.strategies == 0) out.first = w;
         out.sum += w;
@@ -119,7 +129,8 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
     for (int s = 0; s < n; ++s) {
         const int t = n - s;
         // Which joins can run (connect.cpp): not at a mirror or glass; s = 0 only where the
-        // camera path can hit x_0 (not a point light); the sky starts no light subpaths; and
+        // camera path can hit x_0 (not a point or directional light); the sky starts no light
+        // subpaths; and
         // s >= 1 only where its sampler can choose x_0's light at all.
         bool runs;
         if (s == 0) runs = !point;
@@ -173,8 +184,9 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
 }
 
 // A room with every kind of light and vertex the weights treat apart: a one-sided rectangle on
-// the ceiling, a sphere lamp, a two-sided square lamp, a point light; a diffuse floor, a glossy
-// wall, two flat mirrors facing each other, a glass ball.
+// the ceiling, a sphere lamp, a two-sided square lamp, a point light, a spot light, a directional
+// light (the room has no ceiling); a diffuse floor, a glossy wall, two flat mirrors facing each
+// other, a glass ball.
 struct Room {
     Scene scene;
     uint32_t ceiling = 0, globe = 0, two_sided = 0;  // the lamps' materials
@@ -201,6 +213,13 @@ inline Room room_with_every_kind_of_vertex() {
     scene.add_sphere({Vec3(-1.2f, 0.5f, 0.8f), 0.2f}, room.globe);
     scene.add_quad(Quad(Vec3(1.8f, 0.2f, 0), Vec3(0, 0, 0.6f), Vec3(0, 0.6f, 0)), room.two_sided);
     scene.add_point_light({Vec3(-0.5f, 1.5f, 0), Color(2.0f)});
+    // A spot above the floor's right half, pointing down and a little forward: 40 degrees to its
+    // edge, fading over its outer 30% (in 1 - cos).
+    const float cos_outer = std::cos(40.0f * kPi / 180.0f);
+    scene.add_point_light({Vec3(1.0f, 1.8f, -0.5f), Color(3.0f),
+                           SpotCone{glm::normalize(Vec3(0, -1, 0.3f)), cos_outer,
+                                    cos_outer + 0.3f * (1.0f - cos_outer)}});
+    scene.add_directional_light({glm::normalize(Vec3(0.6f, -1, -0.3f)), Color(1.5f)});
     scene.width = 24;
     scene.height = 16;
     scene.camera = Camera(Vec3(0, 1.2f, -3), Vec3(0, 0.6f, 0.5f), Vec3(0, 1, 0), 60.0f, 1.5f);
@@ -223,6 +242,20 @@ inline std::vector<GivenPath> paths_in_the_room(const Room& room) {
     // The point light's image in the mirror at x = -2.5, seen from the floor at (-1.5, 0, -0.5).
     const Vec3 point(-0.5f, 1.5f, 0), image(-4.5f, 1.5f, 0), lit(-1.5f, 0, -0.5f);
     const Vec3 on_mirror = lit + (1.0f / 3.0f) * (image - lit);
+    // The spot: a point of the floor in its full cone, one in its fade, and a caustic through the
+    // ball (entering on its side towards the spot, leaving underneath).
+    const Vec3 spot(1.0f, 1.8f, -0.5f), spot_fade(-0.2f, 0, 0.9f);  // cos 0.825 from the axis
+    const Vec3 spot_entry = ball + 0.3f * glm::normalize(spot - ball);
+    const Vec3 spot_exit = ball + 0.3f * glm::normalize(Vec3(-0.1f, -1, 0.2f));
+    const Vec3 spot_under = spot_exit + spot_exit.y * Vec3(-0.1f, -1, 0.2f);
+    // The sun's light travels along `sun`. By way of the mirror at x = 2.5 (at sun_on_mirror) it
+    // reaches the floor at sun_lit; through the ball, the floor under it.
+    const Vec3 sun = glm::normalize(Vec3(0.6f, -1, -0.3f));
+    const Vec3 sun_on_mirror(2.5f, 1.5f, 0), reflected(-0.6f, -1, -0.3f);
+    const Vec3 sun_lit = sun_on_mirror + 1.5f * reflected;  // y = 0
+    const Vec3 sun_entry = ball - 0.3f * sun;
+    const Vec3 sun_exit = ball + 0.3f * glm::normalize(Vec3(0.2f, -1, 0.3f));
+    const Vec3 sun_under = sun_exit + sun_exit.y * Vec3(0.2f, -1, 0.3f);
     return {{"rectangle, floor", on_area_light(scene, ceiling, Vec3(0.1f, 2, 0.05f), down),
              {Vec3(0.2f, 0, -0.6f)}},
             {"rectangle, floor, glossy wall",
@@ -255,7 +288,21 @@ inline std::vector<GivenPath> paths_in_the_room(const Room& room) {
              {Vec3(-0.3f, 0, 0.2f), Vec3(-0.2f, 0.7f, 2)}},
             {"point light, mirror, floor (only light tracing)", point_light_at(point),
              {on_mirror, lit}},
-            {"point light seen directly", point_light_at(point), {}}};
+            {"point light seen directly", point_light_at(point), {}},
+            {"spot light, floor in its full cone", point_light_at(spot), {Vec3(1.0f, 0, 0.0f)}},
+            {"spot light, floor in its fade, glossy wall", point_light_at(spot),
+             {spot_fade, Vec3(0.4f, 1.0f, 2)}},
+            {"spot light, glass ball, floor (a caustic)", point_light_at(spot),
+             {spot_entry, spot_exit, spot_under}},
+            {"sun, floor", directional_from(-sun), {Vec3(-0.6f, 0, -1.2f)}},
+            {"sun, floor, glossy wall", directional_from(-sun),
+             {Vec3(-0.6f, 0, 0.4f), Vec3(0.2f, 0.8f, 2)}},
+            {"sun, mirror, floor (only light tracing)", directional_from(-sun),
+             {sun_on_mirror, sun_lit}},
+            {"sun, glass ball, floor (a caustic)", directional_from(-sun),
+             {sun_entry, sun_exit, sun_under}},
+            {"sun, floor, two flat mirrors, glossy wall", directional_from(-sun),
+             {before_mirrors, m1, m2, after_mirrors}}};
 }
 
 // An open scene under the sky: uniform, or a map with a sun 1e9 times its other texels, turned

@@ -184,8 +184,8 @@ TEST(Farm, APartIsReadBackExactly) {
     }
 }
 
-// A lesson writes parts with ZIP: another codec is refused before tinyexr decodes (its rarer
-// decoders are less tried on damaged data).
+// A lesson writes parts with ZIP: a part in another codec was not written by a lesson, and is
+// refused before it is decoded.
 TEST(Farm, APartInAnotherCodecIsRefusedBeforeDecoding) {
     Film image(4, 1);  // one line: one chunk in any codec
     for (int i = 0; i < 4; ++i) image.add_sample(i, Color(0.5f * i));

@@ -1,7 +1,9 @@
-// Image output: EXR round trip, the sRGB curve, atomic writes; Radiance .hdr input.
+// Images: EXR through OpenEXR (every codec, pixel type and layout read; damaged and lying files
+// refused; maps in every codec render alike), the sRGB curve, atomic writes; Radiance .hdr input.
 #include <gtest/gtest.h>
 #include <stb_image_write.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <cstdint>
@@ -13,10 +15,15 @@
 #include <utility>
 #include <vector>
 
+#include "exr_test_files.h"
+#include "io/exr_file.h"
 #include "io/image.h"
 #include "io/input_error.h"
+#include "io/scene_file.h"
 #include "render/film.h"
 #include "render/part.h"
+#include "render/progressive.h"
+#include "whitted.h"
 
 using namespace lessons;
 
@@ -38,6 +45,162 @@ TEST(Image, ExrRoundTripIsExactInFloat) {
     ASSERT_EQ(back.height, 5);
     for (size_t i = 0; i < image.pixels.size(); ++i) EXPECT_EQ(back.pixels[i], image.pixels[i]);
     std::filesystem::remove(path);
+}
+
+namespace {
+// The relative error each codec may leave in the values the test files hold (0: lossless).
+// PXR24 rounds a float to 24 bits (sign, exponent, 15 bits of mantissa): half a unit of the
+// 15th bit, 2^-16 relative; it keeps half and uint exactly. B44 and B44A compress half channels
+// only (float and uint are stored as they are): a 4x4 block keeps its largest value and 15
+// differences of 6 bits, in the half bits of 8 ln x for a channel that is not perceptually
+// linear, so each value is within 1/63 of the block's spread in 8 ln x (0.39 stops of our
+// gradient: 2.2), 0.0043 relative in x, plus half's rounding of 8 ln x and of x (2^-10):
+// 0.006. DWAA and DWAB quantise each 8x8 block's DCT coefficients of R, G, B and Y (half or
+// float) in a perceptual space, at the default level 45; OpenEXR gives no bound per value, only
+// "visually lossless": measured on this gradient, 0.87% at most; allowed, 2^-6 (1.6%).
+double codec_tolerance(Imf::Compression compression, Imf::PixelType type) {
+    switch (compression) {
+    case Imf::PXR24_COMPRESSION: return type == Imf::FLOAT ? 0x1p-16 : 0.0;
+    case Imf::B44_COMPRESSION:
+    case Imf::B44A_COMPRESSION: return type == Imf::HALF ? 0.006 : 0.0;
+    case Imf::DWAA_COMPRESSION:
+    case Imf::DWAB_COMPRESSION: return type == Imf::UINT ? 0.0 : 0x1p-6;
+    default: return 0.0;
+    }
+}
+
+const Imf::Compression kAllCompressions[] = {
+    Imf::NO_COMPRESSION,   Imf::RLE_COMPRESSION,   Imf::ZIPS_COMPRESSION, Imf::ZIP_COMPRESSION,
+    Imf::PIZ_COMPRESSION,  Imf::PXR24_COMPRESSION, Imf::B44_COMPRESSION,  Imf::B44A_COMPRESSION,
+    Imf::DWAA_COMPRESSION, Imf::DWAB_COMPRESSION};
+}  // namespace
+
+// Files written by OpenEXR's own API in every compression, pixel type (half, float, uint) and
+// layout (scanlines, 8x8 tiles, the first of two parts), with RGB, RGBA and Y channels, a data
+// window away from the origin and sizes that are no multiple of a block, a chunk or a tile: each
+// reads to the values written, exactly for lossless codecs, within the codec's error for lossy
+// ones; Y is grey, alpha is ignored, a multi-part file's other part is named in a note.
+TEST(Image, ExrEveryCompressionPixelTypeAndLayoutReadsTheValuesWritten) {
+    const std::string path = temp_path("codec.exr");
+    int files = 0;
+    for (const Imf::Compression compression : kAllCompressions)
+        for (const Imf::PixelType type : {Imf::HALF, Imf::FLOAT, Imf::UINT})
+            for (const exr_test::Layout layout :
+                 {exr_test::Layout::Scanline, exr_test::Layout::Tiled, exr_test::Layout::MultiPart})
+                for (const auto& channels :
+                     {std::vector<std::string>{"R", "G", "B"},
+                      std::vector<std::string>{"R", "G", "B", "A"}, std::vector<std::string>{"Y"}}) {
+                    exr_test::Spec spec;
+                    spec.compression = compression;
+                    spec.type = type;
+                    spec.layout = layout;
+                    spec.channels = channels;
+                    exr_test::write(path, spec);
+                    ++files;
+                    const std::string label = compression_name(static_cast<int>(compression)) +
+                                              " " + exr_test::type_name(type) + " " +
+                                              exr_test::layout_name(layout) + " " +
+                                              std::to_string(channels.size()) + " channels";
+                    const Image back = read_exr(path);
+                    ASSERT_EQ(back.width, spec.width) << label;
+                    ASSERT_EQ(back.height, spec.height) << label;
+                    const double tolerance = codec_tolerance(compression, type);
+                    double worst = 0.0;
+                    for (int y = 0; y < spec.height; ++y)
+                        for (int x = 0; x < spec.width; ++x)
+                            for (int c = 0; c < 3; ++c) {
+                                // Y (channel 0) in every channel of a grey file.
+                                const float want = exr_test::written_value(
+                                    x, y, channels.size() == 1 ? 0 : c, type);
+                                const float got = back.at(x, y)[c];
+                                if (tolerance == 0.0)
+                                    ASSERT_EQ(got, want) << label << " at " << x << ", " << y;
+                                worst = std::max(worst, std::abs(double{got} - want) / want);
+                            }
+                    EXPECT_LE(worst, tolerance) << label;
+                    if (layout == exr_test::Layout::MultiPart) {
+                        ASSERT_EQ(back.notes.size(), 1u) << label;
+                        EXPECT_NE(back.notes[0].find(path + ": a multi-part EXR of 2 parts: only "
+                                                            "the first ('beauty') was read"),
+                                  std::string::npos)
+                            << back.notes[0];
+                    } else {
+                        EXPECT_TRUE(back.notes.empty()) << label;
+                    }
+                }
+    EXPECT_EQ(files, 270);
+    std::filesystem::remove(path);
+}
+
+// An environment map in every compression and layout, as half and as float holding the same
+// half values, lights a mirror sphere in lesson 2 and is seen around it: the image is the ZIP
+// float file's, bit for bit, where the texels read are the same (every lossless codec, and
+// PXR24 and B44, which keep these values exactly in float); with a lossy codec each pixel is
+// within the codec's relative error of it (a pixel is the map's radiance times the mirror's
+// reflectance, the same texels with the same weights: positive, so the relative bound carries).
+TEST(Image, ExrEnvironmentMapsInEveryCodecRenderTheZipFloatImage) {
+    const auto dir = std::filesystem::temp_directory_path() / "lessons_exr_maps";
+    std::filesystem::create_directories(dir);
+    const auto render_with = [&](const std::string& map) {
+        const std::string text = R"([image]
+width = 24
+height = 16
+[camera]
+position = [0, 0.3, -4]
+look_at = [0, 0, 0]
+fov = 60
+[background]
+map = ")" + map + R"("
+[materials.mirror]
+type = "mirror"
+reflectance = [0.9, 0.8, 0.7]
+[[shapes]]
+type = "sphere"
+material = "mirror"
+center = [0, 0, 0]
+radius = 1
+)";
+        const Scene scene = build_scene(parse_scene_string(text, (dir / "s.toml").string()));
+        RenderSettings settings;
+        settings.progress = false;
+        return render_scene(scene, WhittedModel(scene, WhittedOptions{}), 4, settings).image;
+    };
+    exr_test::Spec base;
+    base.type = Imf::FLOAT;
+    base.values_in_half = true;
+    const std::string zip_float = (dir / "zip_float.exr").string();
+    exr_test::write(zip_float, base);
+    const Image reference = render_with(zip_float);
+    for (const Imf::Compression compression : kAllCompressions)
+        for (const Imf::PixelType type : {Imf::HALF, Imf::FLOAT})
+            for (const exr_test::Layout layout :
+                 {exr_test::Layout::Scanline, exr_test::Layout::Tiled, exr_test::Layout::MultiPart}) {
+                exr_test::Spec spec = base;
+                spec.compression = compression;
+                spec.type = type;
+                spec.layout = layout;
+                const std::string label = compression_name(static_cast<int>(compression)) + "_" +
+                                          exr_test::type_name(type) + "_" +
+                                          exr_test::layout_name(layout);
+                const std::string map = (dir / (label + ".exr")).string();
+                exr_test::write(map, spec);
+                const Image image = render_with(map);
+                const bool lossy = compression == Imf::DWAA_COMPRESSION ||
+                                   compression == Imf::DWAB_COMPRESSION ||
+                                   (type == Imf::HALF && (compression == Imf::B44_COMPRESSION ||
+                                                          compression == Imf::B44A_COMPRESSION));
+                const double tolerance = codec_tolerance(compression, type);
+                for (size_t i = 0; i < image.pixels.size(); ++i)
+                    for (int c = 0; c < 3; ++c) {
+                        const float got = image.pixels[i][c], want = reference.pixels[i][c];
+                        if (!lossy)
+                            ASSERT_EQ(got, want) << label << " pixel " << i;
+                        else
+                            ASSERT_LE(std::abs(double{got} - want), tolerance * want)
+                                << label << " pixel " << i;
+                    }
+            }
+    std::filesystem::remove_all(dir);
 }
 
 namespace {
@@ -70,20 +233,12 @@ std::string error_field(Read&& read) {
 }
 }  // namespace
 
-// Debian's tinyexr aborts the process on an assert for these headers (found by fuzz_part): they
-// must be input errors naming the attribute, in the image reader and the part reader alike,
-// while a header that states its scanline type correctly still reads.
-TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
-    Image image(3, 2);
-    image.at(2, 1) = Color(0.25f, 0.5f, 4.0f);
-    const std::string good = temp_path("header_good.exr");
-    write_exr(image, good);
-    const std::string bytes = read_bytes(good);
-    ASSERT_GT(bytes.size(), 8u);
-    const std::string magic = bytes.substr(0, 4), scanline = magic + std::string("\2\0\0\0", 4),
-                      tiled = magic + std::string("\2\2\0\0", 4);
-    // The file with `attribute` put first in its header and the given version bytes; the line
-    // offsets after the header (absolute positions in the file) move with it.
+// The offsets of an EXR file's header end and line offset table (single part).
+struct ExrTable {
+    size_t table = 0;        // the first offset's position (after the header's final NUL)
+    uint64_t first_chunk = 0;  // where the first chunk starts
+};
+ExrTable exr_table(const std::string& bytes) {
     size_t header_end = 8;
     while (bytes.at(header_end) != '\0') {
         header_end = bytes.find('\0', bytes.find('\0', header_end) + 1) + 1;
@@ -91,12 +246,28 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
         std::memcpy(&size, bytes.data() + header_end, 4);
         header_end += 4 + size;
     }
-    const size_t table = header_end + 1;
-    uint64_t first_chunk = 0;
-    std::memcpy(&first_chunk, bytes.data() + table, 8);
-    const auto with = [&](const std::string& version, const std::string& attribute) {
-        std::string file = version + attribute + bytes.substr(8);
-        for (size_t at = table; at < first_chunk; at += 8) {
+    ExrTable t;
+    t.table = header_end + 1;
+    std::memcpy(&t.first_chunk, bytes.data() + t.table, 8);
+    return t;
+}
+
+// Damaged and lying headers are input errors naming the file and, for what the header check
+// measures, the attribute, before OpenEXR allocates for them; every prefix of a good file, in
+// scanlines, tiles, a lossy codec and a multi-part file, is an input error naming the file.
+TEST(Image, DamagedAndLyingExrFilesAreInputErrors) {
+    Image image(3, 40);
+    image.at(2, 1) = Color(0.25f, 0.5f, 4.0f);
+    const std::string good = temp_path("header_good.exr");
+    write_exr(image, good);
+    const std::string bytes = read_bytes(good);
+    const ExrTable t = exr_table(bytes);
+    const std::string magic = bytes.substr(0, 4), scanline = magic + std::string("\2\0\0\0", 4);
+    // The file with `attribute` put first (or last) in its header; the line offsets move with it.
+    const auto with = [&](const std::string& attribute, bool last = false) {
+        const size_t at = last ? t.table - 1 : 8;
+        std::string file = scanline + bytes.substr(8, at - 8) + attribute + bytes.substr(at);
+        for (size_t at = t.table; at < t.first_chunk; at += 8) {
             uint64_t offset = 0;
             std::memcpy(&offset, bytes.data() + at, 8);
             offset += attribute.size();
@@ -105,44 +276,27 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
         return file;
     };
     const std::string path = temp_path("header_bad.exr");
-
-    write_bytes(path, with(scanline, exr_attribute("type", "string", "scanlineimage")));
-    const Image back = read_exr(path);
-    ASSERT_EQ(back.width, 3);
-    EXPECT_EQ(back.at(2, 1), image.at(2, 1));
-    // A chunk count that is the file's (its offset table's length) reads the same image.
     const auto chunk_count = [](uint32_t n) {
         return exr_attribute("chunkCount", "int", std::string(reinterpret_cast<char*>(&n), 4));
     };
-    const auto chunks = static_cast<uint32_t>((first_chunk - table) / 8);
-    write_bytes(path, with(scanline, chunk_count(chunks)));
+    const auto chunks = static_cast<uint32_t>((t.first_chunk - t.table) / 8);
+    ASSERT_EQ(chunks, 3u);  // 40 lines of ZIP: 16 a chunk
+    // A chunk count that is the data window's reads the same image.
+    write_bytes(path, with(chunk_count(chunks)));
     EXPECT_EQ(read_exr(path).at(2, 1), image.at(2, 1));
 
-    std::vector<std::pair<std::string, std::string>> cases = {
-        {with(scanline, exr_attribute("type", "string", "bogus")), "type"},
-        {with(scanline, exr_attribute("type", "string", "tiledimage")), "type"},
-        {with(scanline, exr_attribute("type", "string", "deepscanline")), "type"},
-        // Tiled files (tinyexr aborts on a level mode of 3, divides by a tile size of 0).
-        {with(tiled, exr_attribute("tiles", "tiledesc", "1234")), ""},
-        {with(tiled, exr_attribute("tiles", "tiledesc", std::string(9, '\0')) +
-                         exr_attribute("type", "string", "tiledimage")),
-         ""},
-        // A type before an attribute on which tinyexr's parse stops (codec 9 is unknown).
-        {scanline + exr_attribute("type", "string", "tiledimage") +
-             exr_attribute("compression", "compression", "\x09"),
-         "type"},
-        // More line offsets than the file holds: tinyexr would allocate them first.
-        {with(scanline, chunk_count(0x7fffffff)), "chunkCount"},
-        // Another count: tinyexr reads offsets that are not the table's (a count of 1 for this
-        // file's 2 gave garbage for the second line: a wrong image, silently).
-        {with(scanline, chunk_count(chunks > 1 ? chunks - 1 : 2)), "chunkCount"},
-        {with(scanline, chunk_count(chunks + 1)), "chunkCount"},
-        // A damaged header after the type: tinyexr's parse fails there, then converts (and
-        // asserts on) what it read.
-        {scanline + exr_attribute("type", "string", "bogus") + std::string("x\0y\0\xff\xff", 6),
-         "type"},
+    // A data window given twice: OpenEXRCore, which the check reads with, keeps the first, and
+    // the C++ library, which decodes, the last (and would allocate for it).
+    const auto window = [](int32_t x1, int32_t y1) {
+        const int32_t v[4] = {0, 0, x1, y1};
+        return exr_attribute("dataWindow", "box2i", std::string(reinterpret_cast<const char*>(v), 16));
     };
-    // Data windows tinyexr sizes with overflowing int arithmetic, or would allocate for.
+    std::vector<std::pair<std::string, std::string>> cases = {
+        {with(chunk_count(0x7fffffff)), "chunkCount"},
+        {with(chunk_count(chunks - 1)), "chunkCount"},
+        {with(window(99'999, 39), true), "dataWindow"},
+    };
+    // Data windows that lie about the file's size.
     const auto with_window = [&](int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
         std::string file = bytes;
         const std::string name("dataWindow\0box2i\0\x10\0\0\0", 21);
@@ -152,31 +306,109 @@ TEST(Image, ExrHeadersTinyexrWouldAbortOnAreInputErrors) {
         std::memcpy(file.data() + at + name.size(), v, 16);
         return file;
     };
-    cases.push_back({with_window(0, INT32_MIN, 2, 1), "dataWindow"});      // height wraps
-    cases.push_back({with_window(0, 0, 1 << 24, 1), "dataWindow"});        // too wide
-    cases.push_back({with_window(0, 0, 999'999, 999'999), "dataWindow"});  // 10^12 pixels
-    cases.push_back({with_window(0, 0, -1, 1), "dataWindow"});             // empty
-    // Pixels within the bound, but their three channels' samples over it.
-    const auto wide = static_cast<int32_t>(2048 * bytes.size());
+    cases.push_back({with_window(0, 0, 99'999, 99'999), "dataWindow"});  // 10^10 pixels
+    cases.push_back({with_window(0, 0, 39'999, 39'999), "channels"});    // 1.6 10^9 pixels
+    // Pixels within 2^31, but their three channels' samples over what the file can encode.
+    const auto wide = static_cast<int32_t>(kMaxSamplesPerByte * bytes.size() / 3 / 16 + 1);
     cases.push_back({with_window(0, 0, wide - 1, 0), "channels"});
-    // Two line offsets to one chunk: tinyexr would leave the other chunk's lines unwritten.
-    ASSERT_GE(chunks, 2u);
-    std::string twice = bytes;
-    std::memcpy(twice.data() + table + 8, bytes.data() + table, 8);
-    cases.push_back({twice, ""});
     for (const auto& [file, field] : cases) {
         write_bytes(path, file);
         EXPECT_EQ(error_field([&] { read_exr(path); }), field) << field;
         EXPECT_EQ(error_field([&] { check_exr_header(path); }), field) << field;
-    }
-    // The part reader checks before tinyexr parses too (the tiled files it refuses itself).
-    for (const auto& [file, field] : cases) {
-        if (field.empty()) continue;
-        write_bytes(path, file);
+        // The part reader checks the header first too.
         EXPECT_EQ(error_field([&] { read_part(path); }), field) << field;
     }
+    // What OpenEXR's parser refuses (an empty or wrapping window, a window too wide for it):
+    // input errors naming the file.
+    for (const std::string& file :
+         {with_window(0, 0, -1, 1), with_window(0, INT32_MIN, 2, 1), with_window(0, 0, 1 << 24, 1)}) {
+        write_bytes(path, file);
+        try {
+            read_exr(path);
+            ADD_FAILURE() << "read a damaged file";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        }
+    }
+    // What OpenEXR reads right, unlike tinyexr before it: a type it does not know in a file whose
+    // version says scanlines, and two line offsets to one chunk (OpenEXR finds that the table is
+    // not in order and rebuilds it from the chunks themselves).
+    std::string twice = bytes;
+    std::memcpy(twice.data() + t.table + 8, bytes.data() + t.table, 8);
+    for (const std::string& file : {with(exr_attribute("type", "string", "bogus")), twice}) {
+        write_bytes(path, file);
+        EXPECT_EQ(read_exr(path).pixels, image.pixels);
+    }
+    // Cuts of good files, each layout.
+    std::vector<std::string> goods{good};
+    for (const auto& [compression, layout] :
+         {std::pair{Imf::PIZ_COMPRESSION, exr_test::Layout::Tiled},
+          std::pair{Imf::DWAB_COMPRESSION, exr_test::Layout::Scanline},
+          std::pair{Imf::ZIP_COMPRESSION, exr_test::Layout::MultiPart}}) {
+        exr_test::Spec spec;
+        spec.compression = compression;
+        spec.layout = layout;
+        spec.type = Imf::HALF;
+        goods.push_back(temp_path(std::string("prefix_") + exr_test::layout_name(layout) + ".exr"));
+        exr_test::write(goods.back(), spec);
+    }
+    // (A multi-part file cut in its second part still holds the whole first part, and reads.)
+    for (const std::string& file : goods) {
+        const std::string whole = read_bytes(file);
+        const Image all = read_exr(file);
+        // Every cut in the headers and offset tables, then every 7th byte of the chunks.
+        const size_t chunks_from = exr_table(whole).first_chunk;
+        for (size_t n = 0; n < whole.size(); n += n < chunks_from ? 1 : 7) {
+            write_bytes(path, whole.substr(0, n));
+            try {
+                const Image cut = read_exr(path);
+                EXPECT_TRUE(file.find("multi-part") != std::string::npos &&
+                            cut.pixels == all.pixels)
+                    << file << " cut to " << n << " bytes read";
+            } catch (const InputError& e) {
+                ASSERT_NE(std::string(e.what()).find(path + ": "), std::string::npos)
+                    << n << " bytes: " << e.what();
+            }
+        }
+        std::filesystem::remove(file);
+    }
     std::filesystem::remove(path);
-    std::filesystem::remove(good);
+}
+
+// The bound of kMaxSamplesPerByte holds for the densest files OpenEXR writes: constant images,
+// wide enough that the chunks' own bytes hardly count, in the codec that packs most (DWAB, then
+// DWAA and ZIP), each of which still reads.
+TEST(Image, ExrSizeBoundHoldsForTheDensestFiles) {
+    for (const auto compression :
+         {Imf::DWAB_COMPRESSION, Imf::DWAA_COMPRESSION, Imf::ZIP_COMPRESSION}) {
+        for (const auto& channels :
+             {std::vector<std::string>{"Y"}, std::vector<std::string>{"R", "G", "B"}}) {
+            const int w = 8192, h = 256;
+            const Imath::Box2i window(Imath::V2i(0, 0), Imath::V2i(w - 1, h - 1));
+            Imf::Header header(w, h);
+            header.compression() = compression;
+            std::vector<half> constant(static_cast<size_t>(w) * h, half(0.5f));
+            Imf::FrameBuffer frame;
+            for (const std::string& c : channels) {
+                header.channels().insert(c, Imf::Channel(Imf::HALF));
+                frame.insert(c, Imf::Slice::Make(Imf::HALF, constant.data(), window));
+            }
+            const std::string path = temp_path("densest.exr");
+            {
+                Imf::OutputFile file(path.c_str(), header);
+                file.setFrameBuffer(frame);
+                file.writePixels(h);
+            }
+            const auto bytes = static_cast<int64_t>(std::filesystem::file_size(path));
+            const int64_t samples = int64_t{w} * h * static_cast<int64_t>(channels.size());
+            EXPECT_LT(samples, kMaxSamplesPerByte * bytes)
+                << compression_name(static_cast<int>(compression)) << ": " << samples / bytes
+                << " samples per byte";
+            const Image back = read_exr(path);  // (DWA's error: within 2^-6, as above)
+            EXPECT_NEAR(back.at(w - 1, h - 1).x, 0.5f, 0.5f * 0x1p-6f);
+            std::filesystem::remove(path);
+        }
+    }
 }
 
 TEST(Image, SrgbCurveMatchesTheStandard) {

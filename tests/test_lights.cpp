@@ -241,7 +241,7 @@ TEST(Lights, EmissionSamplesCarryThePowerOfTheLightsAndMatchTheirDensities) {
             EXPECT_EQ(e->point, Vec3(0, 5, 0));
             EXPECT_NEAR(glm::length(e->ray.dir), 1.0f, 1e-5f);
             power.push_back(luminance(e->radiance) / (e->pdf_area * e->pdf_dir));
-            const LightSampler::EmissionPdf pdf = sampler.point_emission_pdf(0);
+            const LightSampler::EmissionPdf pdf = sampler.point_emission_pdf(0, e->ray.dir);
             EXPECT_FLOAT_EQ(pdf.area, e->pdf_area);
             EXPECT_FLOAT_EQ(pdf.dir, e->pdf_dir);
             continue;
@@ -381,7 +381,7 @@ TEST(Lights, EveryLightOfPositivePowerCanBeChosen) {
                 << light.material;
         }
         for (uint32_t i = 0; i < scene.point_lights().size(); ++i)
-            total += sampler.point_emission_pdf(i).area;
+            total += sampler.point_emission_pdf(i, Vec3(0, 0, 1)).area;
         EXPECT_EQ(total, 1.0);  // the choices add up to 1 exactly (multiples of 2^-24)
     }
 }
@@ -477,4 +477,106 @@ TEST(Lights, EnvironmentMapsRefuseBadTexelsAndDarkness) {
                  std::invalid_argument);
     EXPECT_THROW(EnvironmentMap(2, 1, {Color(0.0f), Color(0.0f)}, 0.0f, 1.0f),
                  std::invalid_argument);
+}
+
+TEST(Lights, SpotsAndSunsCarryTheirPowerAndMatchTheirDensities) {
+    // A spot's light subpaths leave uniformly within its cone: I falloff / (p_choice p_dir)
+    // averages to its power, I times the integral of its falloff over the sphere, 2 pi ((1 -
+    // cos_inner) + (cos_inner - cos_outer) / 2); none leaves beyond the cone. A directional
+    // light's start on a disk of radius R facing it (p per m^2 across the beam): E / (p_choice
+    // p_disk) averages to E pi R^2, and every ray that meets the scene's bounding sphere starts
+    // outside it. The light sample gives I falloff / d^2 and E, with the choice probability.
+    Scene scene;
+    scene.add_quad(Quad(Vec3(-2, 0, -2), Vec3(0, 0, 4), Vec3(4, 0, 0)),
+                   test::add_diffuse(scene, Color(0.5f)));
+    const float cos_outer = std::cos(25.0f * kPi / 180.0f);
+    const SpotCone cone{glm::normalize(Vec3(0.2f, -1, 0)), cos_outer,
+                        cos_outer + 0.4f * (1.0f - cos_outer)};
+    scene.add_point_light({Vec3(0, 2, 0), Color(5.0f), cone});
+    const Vec3 sun = glm::normalize(Vec3(1, -2, 0.5f));
+    scene.add_directional_light({sun, Color(0.8f)});
+    scene.commit();
+    const LightSampler sampler(scene);
+    ASSERT_TRUE(sampler.has_delta_lights());
+    const double spot_power = 5.0 * 2.0 * kPi * ((1.0 - cone.cos_inner) +
+                                                  0.5 * (double(cone.cos_inner) - cone.cos_outer));
+    const double r = sampler.beam_radius();
+    const Bounds3 bounds = scene.bounds();
+    const Vec3 center = 0.5f * (bounds.min + bounds.max);
+    EXPECT_NEAR(r, 0.5 * glm::length(bounds.extent()), 1e-5);
+    const double sun_power = 0.8 * kPi * r * r;
+    Rng rng(23);
+    std::vector<double> power;
+    int spots = 0, suns = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const auto e = sampler.sample_emission(rng.uniform(), {rng.uniform(), rng.uniform()},
+                                               {rng.uniform(), rng.uniform()});
+        if (!e) {  // only the spot's zero-falloff rim can refuse
+            power.push_back(0.0);
+            continue;
+        }
+        ASSERT_TRUE(e->is_delta());
+        power.push_back(luminance(e->radiance) / (e->pdf_area * e->pdf_dir));
+        if (e->directional) {
+            ++suns;
+            EXPECT_EQ(e->ray.dir, sun);
+            const LightSampler::EmissionPdf pdf = sampler.directional_emission_pdf(0);
+            EXPECT_FLOAT_EQ(pdf.area, e->pdf_area);
+            EXPECT_FLOAT_EQ(pdf.dir, e->pdf_dir);
+            // The start lies on the disk's plane, outside the bounding sphere, and within R of
+            // the line through the centre.
+            const Vec3 off = e->point - center;
+            EXPECT_NEAR(glm::dot(off, sun), -1.001 * r, 1e-4 * r);
+            EXPECT_LE(glm::length(off - glm::dot(off, sun) * sun), r * (1.0f + 1e-5f));
+        } else {
+            ++spots;
+            EXPECT_GT(glm::dot(e->ray.dir, cone.axis), cone.cos_outer - 1e-6f);
+            const LightSampler::EmissionPdf pdf = sampler.point_emission_pdf(0, e->ray.dir);
+            EXPECT_FLOAT_EQ(pdf.area, e->pdf_area);
+            EXPECT_FLOAT_EQ(pdf.dir, e->pdf_dir);
+        }
+    }
+    EXPECT_GT(spots, 1000);
+    EXPECT_GT(suns, 1000);
+    const test::MeanAndError m = test::mean_and_error(power);
+    const double expected = spot_power + sun_power;
+    EXPECT_NEAR(m.mean, expected,
+                test::z_quantile(kSignificance) * m.standard_error + 1e-5 * expected)
+        << "standard error " << m.standard_error;
+    // Beyond the cone, no density; the choices add up to 1.
+    EXPECT_EQ(sampler.point_emission_pdf(0, Vec3(0, 1, 0)).dir, 0.0f);
+    EXPECT_NEAR(sampler.point_emission_pdf(0, cone.axis).area +
+                    sampler.directional_emission_pdf(0).area,
+                1.0, 1e-6);
+
+    // The light sample, from a point of the floor inside the spot's full cone: I / d^2 or E.
+    const Vec3 p(0.3f, 0, 0);
+    const SurfacePoint at{p, Vec3(0.0f), Vec3(0, 1, 0)};
+    int seen_spot = 0, seen_sun = 0;
+    for (int i = 0; i < 64; ++i) {
+        const auto s = sampler.sample(at, (i + 0.5f) / 64.0f, {0.5f, 0.5f});
+        ASSERT_TRUE(s);
+        ASSERT_TRUE(s->is_delta);
+        if (s->directional) {
+            ++seen_sun;
+            EXPECT_EQ(s->wi, -sun);
+            EXPECT_EQ(s->radiance, Color(0.8f));
+            EXPECT_FLOAT_EQ(s->pdf, sampler.directional_emission_pdf(0).area);
+        } else {
+            ++seen_spot;
+            const Vec3 d = Vec3(0, 2, 0) - p;
+            EXPECT_NEAR(s->radiance.x, 5.0f * cone.falloff(-glm::normalize(d)) / glm::dot(d, d),
+                        1e-6f);
+            EXPECT_GT(cone.falloff(-glm::normalize(d)), 0.99f);  // inside the full cone
+        }
+    }
+    EXPECT_GT(seen_spot, 0);
+    EXPECT_GT(seen_sun, 0);
+    // Outside the cone the spot sends nothing: no sample.
+    const SurfacePoint outside{Vec3(-1.9f, 0, 1.9f), Vec3(0.0f), Vec3(0, 1, 0)};
+    for (int i = 0; i < 64; ++i) {
+        if (const auto s = sampler.sample(outside, (i + 0.5f) / 64.0f, {0.5f, 0.5f})) {
+            EXPECT_TRUE(s->directional);
+        }
+    }
 }

@@ -141,7 +141,7 @@ TEST(ReflectionEquation, PointLightsNeedLightSamplingAndTheNotesSaySo) {
     brdf.estimator = Estimator::Brdf;
     std::string notes;
     for (const std::string& n : ReflectionModel(scene, brdf).notes) notes += n + "\n";
-    EXPECT_NE(notes.find("point lights are invisible to the brdf estimator"), std::string::npos)
+    EXPECT_NE(notes.find("point and directional lights are invisible to the brdf estimator"), std::string::npos)
         << notes;
     // With light sampling, a point on the floor lit by the point light gets I cos / d^2 rho / pi
     // (plus the sky): strictly more than the sky alone, which is all the BRDF estimator sees.

@@ -188,7 +188,7 @@ TEST(SceneFile, EveryErrorNamesFileLineAndField) {
         {"empty scene", kValidHead, 0, "shapes", "empty"},
         {"light type",
          kValidHead + kSphere +
-             "[[lights]]\ntype = \"spot\"\nposition = [0,0,0]\n"
+             "[[lights]]\ntype = \"spotlight\"\nposition = [0,0,0]\n"
              "intensity = [1,1,1]\n",
          20, "lights[0].type", "unknown light type"},
         {"light intensity missing",

@@ -136,10 +136,15 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
 
     const std::vector<test::GivenPath> caustics = caustics_seen_through_delta_vertices(room);
     // The lights are chosen by power (lights.h): the ceiling's pi A L_e = 5 pi, the sphere's
-    // pi (4 pi 0.2^2) 3, the two-sided square's 2 pi 0.6^2 2, the point light's 4 pi 2.
+    // pi (4 pi 0.2^2) 3, the two-sided square's 2 pi 0.6^2 2, the point light's 4 pi 2, the
+    // spot's 3 times its cone's solid angle, the sun's E pi R^2 (R: the room's bounding sphere).
+    const double cos_outer = std::cos(40.0 * kPi / 180.0);
+    const double cos_inner = cos_outer + 0.3 * (1.0 - cos_outer);
+    const double spot = 3.0 * 2.0 * kPi * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_outer));
+    const double sun = 1.5 * kPi * lights.beam_radius() * lights.beam_radius();
     const double ceiling_choice =
-        5.0 * kPi /
-        (5.0 * kPi + kPi * 4.0 * kPi * 0.04 * 3.0 + 2.0 * kPi * 0.36 * 2.0 + 4.0 * kPi * 2.0);
+        5.0 * kPi / (5.0 * kPi + kPi * 4.0 * kPi * 0.04 * 3.0 + 2.0 * kPi * 0.36 * 2.0 +
+                     4.0 * kPi * 2.0 + spot + sun);
     expect_joins_and_merges_sum_to_one(b, caustics, etas);
     for (const double eta : etas) {
         for (int k = 0; k < 2; ++k) {  // the point light's: the merge at the floor alone

@@ -157,13 +157,20 @@ double average_reference_halves(const Options& o, Image& reference, const Image&
     return reference_noise;
 }
 
+// An image read by read_image, its notes (a multi-part EXR's other parts ignored) on stderr.
+Image read_noted(const std::string& path) {
+    Image image = read_image(path);
+    for (const std::string& note : image.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+    return image;
+}
+
 // With --variance: the error more samples cannot remove (converged_error, render/metrics.h).
 void print_bias(const Options& o, const Image& image, const Image& reference) {
-    const Image variance = read_image(o.variance_path);
+    const Image variance = read_noted(o.variance_path);
     check_size(variance, o.variance_path, image);
     Image reference_variance;
     if (!o.reference_variance_path.empty()) {
-        reference_variance = read_image(o.reference_variance_path);
+        reference_variance = read_noted(o.reference_variance_path);
         check_size(reference_variance, o.reference_variance_path, image);
     }
     const ConvergedError c = converged_error(
@@ -198,11 +205,11 @@ void print_means(const MeanComparison& c) {
 // Reads the images, makes each the mean of its halves where two are given, and prints the metrics
 // as one JSON line; `image` and `reference` are left as they were compared.
 void print_metrics(const Options& o, Image& image, Image& reference) {
-    image = read_image(o.image_path);
-    reference = read_image(o.reference_path);
+    image = read_noted(o.image_path);
+    reference = read_noted(o.reference_path);
     Image image_b, reference_b;
-    if (!o.image_second_half.empty()) image_b = read_image(o.image_second_half);
-    if (!o.second_half.empty()) reference_b = read_image(o.second_half);
+    if (!o.image_second_half.empty()) image_b = read_noted(o.image_second_half);
+    if (!o.second_half.empty()) reference_b = read_noted(o.second_half);
     // The block means see both halves themselves (their noise comes from the difference).
     std::optional<MeanComparison> means;
     if (o.blocks > 0)

@@ -238,7 +238,15 @@ int status(const Options& o) {
     for (size_t i = 0; i < shown; ++i) std::printf("  missing: %s\n", c.missing[i].c_str());
     if (c.missing.size() > shown)
         std::printf("  ... and %zu more missing pieces\n", c.missing.size() - shown);
-    std::printf("%s\n", c.complete() ? "complete: merge them" : "incomplete");
+    // A named part that is not there (a task still queued, or one that failed) leaves the farm
+    // incomplete even when the parts there cover every sample they were asked for: the missing
+    // part may be the last sample range, which no part there knows of.
+    const size_t not_there = absent.size() + unreadable.size();
+    if (not_there > 0)
+        std::printf("incomplete: %zu of the %zu parts named %s not there or unreadable\n",
+                    not_there, o.parts.size(), not_there == 1 ? "is" : "are");
+    else
+        std::printf("%s\n", c.complete() ? "complete: merge them" : "incomplete");
     if (!o.out.empty()) {
         if (!c.beyond.empty())
             throw InputError("command line", 0, "--spp",

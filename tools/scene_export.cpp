@@ -24,6 +24,7 @@
 #include "io/input_error.h"
 #include "io/report.h"
 #include "io/scene_file.h"
+#include "io/shipped_files.h"
 
 using namespace lessons;
 
@@ -118,11 +119,16 @@ std::string array(size_t n, F f, bool lines = true) {
     return s;
 }
 
-// The point lights, as a JSON array: what Blender gets as lights. The other kinds are written
-// with what they are made of: an area light is a shape with an emissive material, the
-// environment is the background.
-std::string point_lights_json(const Scene& scene) {
-    std::vector<std::string> lights;
+// The point and spot lights and the directional lights, as two JSON arrays: what Blender gets as
+// lights (a spot's cone as the scene file gives it: its axis, the half-angle to its edge in
+// degrees, and its blend; a directional light's direction of travel and irradiance). The other
+// kinds are written with what they are made of: an area light is a shape with an emissive
+// material, the environment is the background.
+struct LightsJson {
+    std::string points, directionals;
+};
+LightsJson lights_json(const Scene& scene) {
+    std::vector<std::string> points, directionals;
     for (const LightRef& light : scene.lights()) {
         switch (light.kind) {
             case LightKind::Point: {
@@ -130,14 +136,33 @@ std::string point_lights_json(const Scene& scene) {
                 Object o;
                 o.put("position", vec3(l.position));
                 o.put("intensity", vec3(l.intensity));
-                lights.push_back(o.str());
+                if (l.cone) {
+                    Object spot;
+                    spot.put("direction", vec3(l.cone->axis));
+                    const double cos_outer = l.cone->cos_outer;
+                    spot.put("cone_angle",
+                             number(std::acos(cos_outer) * 180.0 / 3.14159265358979323846));
+                    spot.put("cone_blend",
+                             number((l.cone->cos_inner - cos_outer) / (1.0 - cos_outer)));
+                    o.put("spot", spot.str());
+                }
+                points.push_back(o.str());
+                break;
+            }
+            case LightKind::Directional: {
+                const DirectionalLight& l = scene.directional_lights()[light.index];
+                Object o;
+                o.put("direction", vec3(l.direction));
+                o.put("irradiance", vec3(l.irradiance));
+                directionals.push_back(o.str());
                 break;
             }
             case LightKind::Area: break;         // its shapes and material
             case LightKind::Environment: break;  // "background"
         }
     }
-    return array(lights.size(), [&](size_t i) { return lights[i]; });
+    return {array(points.size(), [&](size_t i) { return points[i]; }),
+            array(directionals.size(), [&](size_t i) { return directionals[i]; })};
 }
 
 std::string export_scene(const SceneDescription& d, const Scene& scene) {
@@ -197,7 +222,9 @@ std::string export_scene(const SceneDescription& d, const Scene& scene) {
     mesh.put("materials", array(tris.size(), [&](size_t i) { return std::to_string(tris[i].material); }, false));
     mesh.put("smooth", array(tris.size(), [&](size_t i) { return std::string(tris[i].smooth ? "1" : "0"); }, false));
     o.put("mesh", mesh.str());
-    o.put("point_lights", point_lights_json(scene));
+    const LightsJson lights = lights_json(scene);
+    o.put("point_lights", lights.points);
+    o.put("directional_lights", lights.directionals);
     o.put("notes", array(scene.notes.size(), [&](size_t i) { return json_quote(scene.notes[i]); }));
     return o.str() + "\n";
 }
@@ -208,7 +235,10 @@ int main(int argc, char** argv) {
     CLI::App app{"Writes a scene as the lessons load it (world-space shapes, materials, lights, "
                  "camera) as JSON, for the Blender bridge (docs/interop.md)"};
     std::string scene_file, out;
-    app.add_option("SCENE", scene_file, "A TOML scene, or a .gltf/.glb file")->required();
+    app.add_option("SCENE", scene_file,
+                   "A TOML scene, or a .gltf/.glb file, or the name of a shipped scene "
+                   "(cornell_box)")
+        ->required();
     app.add_option("--out", out, "The JSON file to write (default: standard output)");
     try {
         app.parse(argc, argv);
@@ -216,7 +246,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     try {
-        const SceneDescription d = describe_scene_file(scene_file);
+        const SceneDescription d = describe_scene_file(find_scene_file(scene_file));
         const Scene scene = build_scene(d);
         const std::string json = export_scene(d, scene);
         if (out.empty()) {

@@ -11,78 +11,87 @@ namespace lessons {
 
 namespace {
 
-// A light as ray casting sees it: a point that sends intensity I towards the shaded point,
-// and the point a shadow ray must reach unobstructed.
-struct PointSource {
-    Vec3 position;
-    Color intensity;                 // W/sr towards the shaded point
-    SurfacePoint shadow_target;      // normal zero for a point light, which lies on no surface
-    std::optional<PrimRef> emitter;  // the primitive the target lies on, if any
+// A light as ray casting sees it from the shaded point: the direction to it, the irradiance it
+// gives a surface facing it there, and the shadow ray that must reach it unobstructed.
+struct Incident {
+    Vec3 wi;                         // unit, towards the light
+    Color intensity;                 // I towards the shaded point, W/sr (a directional light: E)
+    float distance_squared;          // d^2 (a directional light: 1), so that E = I / d^2
+    Ray shadow;                      // towards the light, ending at it
+    std::optional<PrimRef> emitter;  // the primitive the shadow ray ends on, if any
 };
+
+// A point source of intensity I (towards the shaded point p) at `position`, whose shadow rays end
+// at `target` (on an emitter's surface, or the point itself, normal zero).
+std::optional<Incident> from_point(const SurfaceInteraction& si, const Vec3& position,
+                                   const Color& intensity, const SurfacePoint& target,
+                                   std::optional<PrimRef> emitter) {
+    const Vec3 d = position - si.p;
+    const float distance_squared = glm::dot(d, d);
+    if (is_black(intensity) || !(distance_squared > 0.0f)) return std::nullopt;
+    const bool on_surface = glm::dot(target.n, target.n) > 0.0f;
+    const Ray shadow = on_surface ? spawn_ray_between(si.surface_point(), target)
+                                  : spawn_ray_to(si.surface_point(), target.p);
+    return Incident{d / std::sqrt(distance_squared), intensity, distance_squared, shadow, emitter};
+}
 
 // Area light -> point source. A flat emitter of radiance L_e and area A sends intensity
 // I(theta) = L_e A cos(theta) in direction theta from its normal (Lambert's cosine law); a
 // sphere sends L_e pi r^2 in every direction. Exact far from the light; near it the finite size
 // matters (soft shadows, lesson 3).
-PointSource as_point_source(const AreaLight& light, const Scene& scene, const Vec3& p) {
-    PointSource s;
-    s.position = light.center;
-    s.emitter = light.prim;
+std::optional<Incident> as_point_source(const AreaLight& light, const Scene& scene,
+                                        const SurfaceInteraction& si) {
     if (light.prim.kind() == ShapeKind::Sphere) {
-        const float r = scene.spheres()[light.prim.index()].radius;
-        const Vec3 out = glm::normalize(p - light.center);
-        s.intensity = light.radiance * (kPi * r * r);
-        s.shadow_target = scene.spheres()[light.prim.index()].point_at(out);  // facing p
-        return s;
+        const Sphere& sphere = scene.spheres()[light.prim.index()];
+        const Vec3 out = glm::normalize(si.p - light.center);
+        return from_point(si, light.center, light.radiance * (kPi * sphere.radius * sphere.radius),
+                          sphere.point_at(out), light.prim);  // the target faces p
     }
-    const float cos_light = glm::dot(light.normal, glm::normalize(p - light.center));
+    const float cos_light = glm::dot(light.normal, glm::normalize(si.p - light.center));
     const float facing = light.two_sided ? std::fabs(cos_light) : std::fmax(cos_light, 0.0f);
-    s.intensity = light.radiance * (light.area * facing);
-    s.shadow_target = {light.center, light.center_error, light.normal};
-    return s;
+    return from_point(si, light.center, light.radiance * (light.area * facing),
+                      {light.center, light.center_error, light.normal}, light.prim);
 }
 
-// A light of the scene as lesson 1 sees it from the shading point si, a point source; none for the
-// environment, which lights surfaces only through the ambient term, and none for the emitter si
-// lies on, which does not light itself.
-std::optional<PointSource> point_source(const Scene& scene, LightRef light,
-                                        const SurfaceInteraction& si) {
+// A light of the scene as lesson 1 sees it from the shading point si; none for the environment,
+// which lights surfaces only through the ambient term, and none for the emitter si lies on,
+// which does not light itself.
+std::optional<Incident> incident(const Scene& scene, LightRef light, const SurfaceInteraction& si) {
     switch (light.kind) {
         case LightKind::Point: {
             const PointLight& l = scene.point_lights()[light.index];
-            return PointSource{
-                l.position, l.intensity, {l.position, Vec3(0.0f), Vec3(0.0f)}, std::nullopt};
+            // A spot sends its intensity only within its cone.
+            return from_point(si, l.position, l.intensity_towards(glm::normalize(si.p - l.position)),
+                              {l.position, Vec3(0.0f), Vec3(0.0f)}, std::nullopt);
+        }
+        case LightKind::Directional: {  // the same E everywhere, from one direction
+            const DirectionalLight& l = scene.directional_lights()[light.index];
+            return Incident{-l.direction, l.irradiance, 1.0f,
+                            spawn_ray(si.surface_point(), -l.direction), std::nullopt};
         }
         case LightKind::Area: {
             const AreaLight& l = scene.area_lights()[light.index];
             if (l.prim == si.prim) return std::nullopt;
-            return as_point_source(l, scene, si.p);
+            return as_point_source(l, scene, si);
         }
         case LightKind::Environment: return std::nullopt;
     }
     return std::nullopt;
 }
 
-// Adds f * I cos(theta_i) / d^2 from one point source, if the shadow ray reaches it.
+// Adds f * E cos(theta_i) from one light, if the shadow ray reaches it.
 Color shade_from(const Scene& scene, const SurfaceInteraction& si, const LocalMaterial& m,
-                 const Vec3& n, const PointSource& light) {
-    if (is_black(light.intensity)) return Color(0.0f);
-    Vec3 wi = light.position - si.p;
-    const float distance_squared = glm::dot(wi, wi);
-    if (!(distance_squared > 0.0f)) return Color(0.0f);
-    wi /= std::sqrt(distance_squared);
+                 const Vec3& n, const Incident& light) {
+    const Vec3& wi = light.wi;
     const float cos_i = glm::dot(n, wi);
     if (cos_i <= 0.0f) return Color(0.0f);  // the light is behind the surface
     // ... also behind the actual (geometric) surface: an interpolated shading normal can lean
     // towards a light the true surface faces away from, which would leak light through it.
     const Vec3 n_geo = glm::dot(si.n_geo, n) < 0.0f ? -si.n_geo : si.n_geo;
     if (glm::dot(n_geo, wi) <= 0.0f) return Color(0.0f);
-    const bool on_surface = glm::dot(light.shadow_target.n, light.shadow_target.n) > 0.0f;
-    const Ray shadow = on_surface ? spawn_ray_between(si.surface_point(), light.shadow_target)
-                                  : spawn_ray_to(si.surface_point(), light.shadow_target.p);
-    if (scene.occluded(shadow, light.emitter)) return Color(0.0f);
+    if (scene.occluded(light.shadow, light.emitter)) return Color(0.0f);
     // Irradiance from a point source: E = I cos(theta_i) / d^2 (inverse-square law).
-    const Color irradiance = light.intensity * (cos_i / distance_squared);
+    const Color irradiance = light.intensity * (cos_i / light.distance_squared);
     // f(wo, wi) = k_d / pi + k_s N(e) (n . h)^e: Lambert and the normalised Blinn-Phong lobe.
     return blinn_phong_brdf(m.k_d, m.k_s, m.exponent, n, si.wo, wi) * irradiance;
 }
@@ -159,8 +168,8 @@ Color direct_local(const Scene& scene, const SurfaceInteraction& si, const Local
                    const Vec3& n) {
     Color L(0.0f);
     for (const LightRef& light : scene.lights())
-        if (const std::optional<PointSource> source = point_source(scene, light, si))
-            L += shade_from(scene, si, m, n, *source);
+        if (const std::optional<Incident> in = incident(scene, light, si))
+            L += shade_from(scene, si, m, n, *in);
     return L;
 }
 
@@ -171,7 +180,7 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
     const LocalMaterial m = local_material(scene.material(si.material), si.uv);
     // Shade the side the ray arrived on: both normals turned towards the viewer.
     const Vec3 n = si.front_face() ? si.n_shading : -si.n_shading;
-    // L = L_e + k_d L_a + sum over lights of f I cos / d^2 V.
+    // L = L_e + k_d L_a + sum over lights of f E cos V (E = I / d^2 for a point source).
     return scene.emitted(si) + m.k_d * options.ambient + direct_local(scene, si, m, n);
 }
 

@@ -6,7 +6,8 @@
 //   f(wo, wi) = k_d / pi + k_s N(e) (n . h)^e      (Lambert + normalised Blinn-Phong, bsdf.h)
 //
 // with L_a a constant ambient radiance standing in for all indirect light, I_l the light's
-// intensity towards the point, d_l its distance, V_l = 1 if the shadow ray reaches it.
+// intensity towards the point, d_l its distance, V_l = 1 if the shadow ray reaches it. A
+// directional light gives every point facing it the same irradiance E in place of I_l / d_l^2.
 // Area lights are treated as point sources at their centre (hard shadows).
 #pragma once
 

@@ -102,6 +102,10 @@ WhittedModel::WhittedModel(const Scene& scene, const WhittedOptions& options)
         notes.push_back(
             "point lights are never seen in mirrors or glass (a reflected ray never hits a "
             "point): the lamp's reflection and its highlights through glass are missing");
+    if (has_specular && !scene.directional_lights().empty())
+        notes.push_back(
+            "directional lights are never seen in mirrors or glass (a reflected ray never has "
+            "their one exact direction): the sun's reflection is missing");
     biased_because.push_back(
         "diffuse surfaces see lights only through shadow rays: light from other surfaces "
         "(colour bleeding) and light focused by mirrors and glass (caustics) are missing");

@@ -127,11 +127,12 @@ ReflectionModel::ReflectionModel(const Scene& scene, const ReflectionOptions& op
         "(indirect light) is ignored");
     const bool sees_points =
         options.estimator == Estimator::Light || options.estimator == Estimator::Mis;
-    if (lights_.has_point_lights() && !sees_points)
+    if (lights_.has_delta_lights() && !sees_points)
         notes.push_back(
-            std::string("the scene's point lights are invisible to the ") +
+            std::string("the scene's point and directional lights are invisible to the ") +
             estimator_name(options.estimator) +
-            " estimator: a sampled direction never hits a point (use light or mis)");
+            " estimator: a sampled direction never hits a point, nor is it ever one exact "
+            "direction (use light or mis)");
     bool delta = false;
     for (const Material& m : scene.materials())
         delta |= facts_of(m.type).delta;

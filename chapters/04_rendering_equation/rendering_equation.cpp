@@ -104,15 +104,16 @@ PathTracingModel::PathTracingModel(const Scene& scene, const PathOptions& option
                               : "estimator: plain path tracing, BSDF sampling only (no next-event "
                                 "estimation)");
     const SceneContents contents = scene.contents();
-    if (!options.next_event && lights_.has_point_lights())
+    if (!options.next_event && lights_.has_delta_lights())
         biased_because.push_back(
-            "the scene's point lights are invisible without next-event estimation: a sampled "
-            "direction never hits a point");
-    else if (contents.point_lights && contents.delta_materials)
+            "the scene's point and directional lights are invisible without next-event "
+            "estimation: a sampled direction never hits a point, nor is it ever one exact "
+            "direction");
+    else if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
-            "point-light caustics are missing: light from a point light by way of a mirror or "
-            "glass is never found from the camera (a delta BSDF meets a delta light); lesson 5 "
-            "renders it");
+            "point-light caustics are missing: light from a point (or directional) light by way "
+            "of a mirror or glass is never found from the camera (a delta BSDF meets a delta "
+            "light); lesson 5 renders it");
     if (contents.point_light_in_view)
         biased_because.push_back(
             "a point light in view is missing: no ray hits a point (lesson 5 joins the light to "

@@ -81,9 +81,9 @@ BidirectionalModel::BidirectionalModel(const Scene& scene, const BidirOptions& o
         notes.push_back(
             "the sky starts no light subpaths: its light is found by camera paths that escape "
             "(s = 0) and by light samples (s = 1), as in lesson 4");
-    if (contents.point_lights && contents.delta_materials)
+    if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
-            "a point light seen in a mirror or through glass is missing, and so is its caustic "
+            "a point or directional light seen in a mirror or through glass is missing, and so is its caustic "
             "seen that way: a delta BSDF next to each end of the path leaves no strategy to join "
             "them (the caustic seen directly is found)");
     add_path_length_notes(*this, options.max_depth, options.roulette_after);  // both subpaths

@@ -31,9 +31,15 @@ Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
         light.n = ls->normal;
         light.emitter = ls->emitter;
         light.pdf_fwd = light_origin_density(b, light);
+    } else if (ls->directional) {  // a directional light: its direction
+        light.p = ls->wi;
+        light.directional = true;
+        light.light_index = ls->light_index;
+        light.pdf_fwd = ls->pdf;  // its choice probability
     } else if (ls->is_delta) {  // a point light
         light.p = z.p + ls->distance * ls->wi;
         light.point_light = true;
+        light.light_index = ls->light_index;
         light.pdf_fwd = ls->pdf;  // its choice probability
     } else {                      // the sky
         light.p = ls->wi;
@@ -59,8 +65,9 @@ Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixe
     if (!raster) return Color(0.0f);
     Color f;
     float cos_y;
-    if (y.point_light) {
-        f = Color(1.0f);
+    if (y.point_light) {  // a spot's falloff towards the camera (its beta holds the axis's I)
+        const PointLight& l = b.scene.point_lights()[y.light_index];
+        f = Color(l.cone ? l.cone->falloff(-w) : 1.0f);
         cos_y = 1.0f;
     } else if (y.type == VertexType::Light) {
         cos_y = glm::dot(y.n, -w);

@@ -44,7 +44,11 @@ void through_delta_chains(VertexAt&& x, int n, std::vector<VertexDensities>& d) 
         int j = i;
         while (j + 1 < n - 1 && d[j + 1].delta) ++j;
         const Vertex &before = x(i - 1), &after = x(j + 1);
-        if (!before.infinite) {
+        if (before.directional) {
+            // Parallel light keeps its cross-section through flat mirrors: per m^2 across the
+            // beam, times |cos| where it lands (and no camera path reaches the light).
+            d[j + 1].from_light = d[i].from_light / abs_cos(x(i), before) * abs_cos(after, x(j));
+        } else if (!before.infinite) {
             double unfolded = 0.0;
             for (int k = i - 1; k <= j; ++k) unfolded += glm::length(x(k + 1).p - x(k).p);
             // p at x_{i-1} from x_i's density, and p at x_{j+1} from x_j's, back to solid angle.
@@ -99,7 +103,7 @@ void towards_light(const std::vector<VertexDensities>& d, int s, Join&& join, Me
 
 bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light) {
     const std::optional<PrimRef> prim = on_light.primitive();
-    if (!prim || on_light.infinite || on_light.point_light) return false;
+    if (!prim || on_light.infinite || on_light.delta_light()) return false;
     const Vec3 to_light = on_light.p - b.camera.position();
     const float d2 = glm::dot(to_light, to_light);
     if (!(d2 > 0.0f)) return false;
@@ -161,14 +165,14 @@ void technique_densities(const Bidir& b, const TechniquePath& x, std::vector<Ver
 }
 
 // x_0 is made differently by different techniques (Veach 1997, 10.2.2): strategy 0's camera path
-// hits it (no camera path hits a point light: 0); strategy 1's light sample picks it (lesson 3's
+// hits it (no camera path hits a point or directional light: 0); strategy 1's light sample picks it (lesson 3's
 // density, by solid angle where it can; for a lamp seen directly, n = 2, strategy 1 is light
 // tracing and starts there); every other strategy starts its light subpath there (the sky starts
 // none: 0), and so does every merge.
 struct FirstVertex {
     double hit = 0.0, sampled = 0.0, started = 0.0;
     FirstVertex(const Vertex& x0, const VertexDensities& d0, int n)
-        : hit(x0.point_light ? 0.0 : d0.from_camera),
+        : hit(x0.delta_light() ? 0.0 : d0.from_camera),
           sampled(n >= 3 ? x0.pdf_light_sample : (x0.infinite ? 0.0 : d0.from_light)),
           started(x0.infinite ? 0.0 : d0.from_light) {}
     double operator()(int technique) const {

@@ -10,11 +10,16 @@
 namespace lessons {
 
 Vec3 direction(const Vertex& from, const Vertex& to) {
-    return to.infinite ? to.p : glm::normalize(to.p - from.p);
+    if (to.infinite || to.directional) return to.p;
+    if (from.directional) return -from.p;
+    return glm::normalize(to.p - from.p);
 }
 
 float to_area_density(float pdf_solid_angle, const Vertex& from, const Vertex& to) {
-    if (to.infinite) return pdf_solid_angle;
+    if (to.infinite || to.directional) return pdf_solid_angle;
+    if (from.directional)  // parallel light: no spreading with distance
+        return to.n == Vec3(0.0f) ? pdf_solid_angle
+                                  : pdf_solid_angle * std::fabs(glm::dot(to.n, from.p));
     const Vec3 d = to.p - from.p;
     const float d2 = glm::dot(d, d);
     // A point (the camera, a point light) has no surface to tilt: its "cosine" is 1.
@@ -29,14 +34,14 @@ glm::ivec2 pixel_at(const Bidir& b, const Vec2& raster) {
 
 float light_origin_density(const Bidir& b, const Vertex& v) {
     if (v.infinite) return b.lights.environment_pdf(v.p);  // its direction
-    if (v.type == VertexType::Light && v.point_light) return v.pdf_fwd;  // set when sampled
+    if (v.type == VertexType::Light && v.delta_light()) return v.pdf_fwd;  // set when sampled
     const std::optional<PrimRef> prim = v.primitive();
     return prim ? b.lights.emission_pdf(*prim, v.n, v.n).area : 0.0f;
 }
 
 float light_sample_density(const Bidir& b, const Vertex& v, const Vertex& from) {
     const std::optional<PrimRef> prim = v.primitive();
-    if (v.infinite || v.point_light || !prim) return light_origin_density(b, v);
+    if (v.infinite || v.delta_light() || !prim) return light_origin_density(b, v);
     const Vec3 n = v.type == VertexType::Light || glm::dot(v.n, v.si.wo) > 0.0f ? v.n : -v.n;
     return to_area_density(b.lights.pdf(from.p, *prim, v.p, n), from, v);
 }
@@ -46,7 +51,9 @@ float light_emission_density(const Bidir& b, const Vertex& v, const Vertex& next
     const Vec3 w = direction(v, next);
     float pdf_dir = 0.0f;
     if (v.point_light) {
-        pdf_dir = uniform_sphere_pdf();
+        pdf_dir = b.lights.point_emission_pdf(v.light_index, w).dir;
+    } else if (v.directional) {
+        pdf_dir = b.lights.directional_emission_pdf(v.light_index).dir;
     } else {
         const std::optional<PrimRef> prim = v.primitive();
         // The emitting side: a light vertex's normal is on it; a camera vertex on an emitter saw
@@ -212,17 +219,24 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
     if (!e || max_vertices < 1) return;
     Vertex light;
     light.type = VertexType::Light;
-    light.p = e->point;
-    light.n = e->normal;
-    light.point_light = e->is_delta();
+    light.p = e->directional ? -e->normal : e->point;
+    light.n = e->is_delta() ? Vec3(0.0f) : e->normal;
+    light.point_light = e->is_delta() && !e->directional;
+    light.directional = e->directional;
+    light.light_index = e->light_index;
     light.emitter = e->emitter;
     light.si.p_error = e->error;
     light.pdf_fwd = e->pdf_area;
-    // y_0's beta: L_e / p_A(y_0); leaving it, times cos(theta) / p(w): the light-side beta.
-    light.beta = e->radiance / e->pdf_area;
+    // y_0's beta: L_e / p_A(y_0) (a spot's: its axis intensity, as its cone's falloff depends on
+    // where the light leaves to: camera_sees applies it); leaving it, times cos(theta) / p(w):
+    // the light-side beta.
+    const Color leaving = e->radiance / e->pdf_area;
+    light.beta = light.point_light
+                     ? b.scene.point_lights()[light.light_index].intensity / e->pdf_area
+                     : leaving;
     path.push_back(light);
-    const float cos_q = light.point_light ? 1.0f : std::fabs(glm::dot(e->normal, e->ray.dir));
-    random_walk(b, e->ray, light.beta * (cos_q / e->pdf_dir), e->pdf_dir, rng, max_vertices,
+    const float cos_q = light.delta_light() ? 1.0f : std::fabs(glm::dot(e->normal, e->ray.dir));
+    random_walk(b, e->ray, leaving * (cos_q / e->pdf_dir), e->pdf_dir, rng, max_vertices,
                 roulette_after, Transport::Importance, path);
     if (path.size() >= 2) path[0].pdf_light_sample = light_sample_density(b, path[0], path[1]);
 }
@@ -269,7 +283,7 @@ std::string camera_subpath_along(const Bidir& b, const Vertex& light, std::span<
     path.push_back(camera);
     const size_t m = points.size();
     const Vec3 first = direction(camera, camera_target(light, points, 0));
-    const size_t camera_vertices = m + (light.point_light ? 1 : 2);
+    const size_t camera_vertices = m + (light.delta_light() ? 1 : 2);
     size_t aimed = 0;
     Rng unused(0);
     walk(b, Ray{camera.p, first}, Color(1.0f), b.camera.importance(first), unused,
@@ -285,7 +299,7 @@ std::string camera_subpath_along(const Bidir& b, const Vertex& light, std::span<
         if (!lies_on(path[1 + k].p, camera_target(light, points, k).p))
             return "the camera subpath's vertex " + std::to_string(1 + k) +
                    " misses its point (blocked)";
-    if (!light.point_light) {  // the camera subpath ends on the light
+    if (!light.delta_light()) {  // the camera subpath ends on the light
         const Vertex& end = path.back();
         if (light.infinite ? !end.infinite
                            : end.primitive() != light.emitter || !lies_on(end.p, light.p))
@@ -294,16 +308,36 @@ std::string camera_subpath_along(const Bidir& b, const Vertex& light, std::span<
     return "";
 }
 
+// The point light (an index into scene.point_lights()) at a given light vertex's position, or
+// the directional light of its direction: UINT32_MAX if none.
+uint32_t point_light_at(const Bidir& b, const Vertex& v) {
+    const std::vector<PointLight>& lights = b.scene.point_lights();
+    for (uint32_t i = 0; i < lights.size(); ++i)
+        if (lights[i].position == v.p) return i;
+    return UINT32_MAX;
+}
+
+uint32_t directional_light_at(const Bidir& b, const Vertex& v) {
+    const std::vector<DirectionalLight>& lights = b.scene.directional_lights();
+    for (uint32_t i = 0; i < lights.size(); ++i)
+        if (glm::dot(-lights[i].direction, v.p) > 1.0f - 1e-6f) return i;
+    return UINT32_MAX;
+}
+
 // The densities with which a light subpath starts as the given one does: y_0's own, the light's
 // choice and its point's (set in y0.pdf_fwd), and, returned, that of its direction w towards x_1
-// per steradian (uniform over the sphere for a point light, the emission's for an area light; 0
-// where it sends no light that way).
+// per steradian (uniform over the sphere for a point light, in its cone for a spot, the
+// emission's for an area light; per m^2 across the beam for a directional light; 0 where it
+// sends no light that way).
 float light_start_densities(const Bidir& b, Vertex& y0, const Vec3& w) {
-    if (y0.point_light) {
-        const auto& points_lights = b.scene.point_lights();
-        for (uint32_t i = 0; i < points_lights.size(); ++i)
-            if (points_lights[i].position == y0.p) y0.pdf_fwd = b.lights.point_emission_pdf(i).area;
-        return uniform_sphere_pdf();
+    LightSampler::EmissionPdf pdf;
+    if (y0.point_light) y0.light_index = point_light_at(b, y0);
+    if (y0.directional) y0.light_index = directional_light_at(b, y0);
+    if (y0.point_light) pdf = b.lights.point_emission_pdf(y0.light_index, w);
+    if (y0.directional) pdf = b.lights.directional_emission_pdf(y0.light_index);
+    if (y0.delta_light()) {
+        y0.pdf_fwd = pdf.area;
+        return pdf.dir;
     }
     y0.pdf_fwd = light_origin_density(b, y0);
     return y0.emitter ? b.lights.emission_pdf(*y0.emitter, y0.n, w).dir : 0.0f;
@@ -324,7 +358,10 @@ std::string light_subpath_along(const Bidir& b, const Vertex& light, std::span<c
     if (m == 0) return "";  // a light seen directly: the light subpath is y_0 alone
     size_t next = 0;
     Rng unused(0);
-    walk(b, spawn_ray(y0.surface_point(), w), Color(1.0f), pdf_dir, unused, static_cast<int>(m + 1),
+    // A directional light's ray starts on its disk (LightSampler::beam_origin).
+    const Ray first = y0.directional ? Ray{b.lights.beam_origin(w, points[0]), w, kInfinity}
+                                     : spawn_ray(y0.surface_point(), w);
+    walk(b, first, Color(1.0f), pdf_dir, unused, static_cast<int>(m + 1),
          -1, Transport::Importance, path, [&](const Vertex& v) -> std::optional<BsdfSample> {
              if (++next >= m) return std::nullopt;
              return towards(v, camera_target(light, points, m - 1 - next));

@@ -34,13 +34,18 @@ enum class VertexType { Camera, Light, Surface };
 
 struct Vertex {
     VertexType type = VertexType::Surface;
-    // Position; for the environment (a light at infinity), the unit direction towards it.
+    // Position; for the environment and a directional light (lights at infinity), the unit
+    // direction towards them.
     Vec3 p{0.0f};
     // Unit geometric normal: of the surface, or of a light's emitting side; zero for points (the
-    // camera's pinhole, a point light) and for the environment.
+    // camera's pinhole, a point light) and for lights at infinity.
     Vec3 n{0.0f};
     bool infinite = false;           // the environment
     bool point_light = false;        // a point light: a delta position, never hit by a camera path
+    bool directional = false;        // a directional light: a delta direction, never hit either;
+                                     // its light crosses the scene in parallel, so the density
+                                     // of the next vertex is per m^2 across the beam, times cos
+    uint32_t light_index = 0;  // a point or directional light's, into the scene's list of them
     std::optional<PrimRef> emitter;  // a Light vertex on an emissive surface
     SurfaceInteraction si{};         // Surface vertices: the hit (si.wo points back along the
                                      // subpath)
@@ -63,17 +68,21 @@ struct Vertex {
     // Whether a strategy may join a segment to this vertex: not at a mirror or glass, and not at
     // the environment (its light is found by the camera path escaping, s = 0, or by a light
     // sample, s = 1).
-    bool connectible() const { return !delta && !infinite; }
+    bool connectible() const { return !delta && !infinite && !directional; }
+    // A point or directional light: no camera path can reach it.
+    bool delta_light() const { return point_light || directional; }
 };
 
 // The pixel, as column and row, that a film position (Camera::raster_position) falls in: where
 // light tracing splats, and what the lamp's weights (mis.h) ask about.
 glm::ivec2 pixel_at(const Bidir& b, const Vec2& raster);
 
-// The unit direction from vertex `from` towards `to` (towards the sky for the environment).
+// The unit direction from vertex `from` towards `to` (towards the sky for the environment; a
+// directional light's own, from it).
 Vec3 direction(const Vertex& from, const Vertex& to);
 // A solid-angle density at `from` for the direction towards `to`, as a density per unit area
-// at `to` (unchanged for the environment, whose vertices are directions).
+// at `to` (unchanged for lights at infinity, whose vertices are directions). From a directional
+// light, the density is per m^2 across its beam, and becomes per m^2 at `to` by |cos| alone.
 float to_area_density(float pdf_solid_angle, const Vertex& from, const Vertex& to);
 
 // The densities of the weights: how likely each strategy was to make a vertex.
@@ -106,7 +115,7 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
 // the BSDF would have sampled it with), so that a strategy's weights can be checked against all
 // the others' on the same path (tests/test_bidirectional.cpp). `light` is x_0: a light vertex
 // (p and n, its emitting side's normal, and emitter; or point_light and p; or infinite and p,
-// the direction towards the sky); `points` are x_1 .. x_{n-2}, each where a ray from the vertex
+// the direction towards the sky; or directional and p, the direction towards that light); `points` are x_1 .. x_{n-2}, each where a ray from the vertex
 // before meets the scene first; x_{n-1} is the camera. The camera subpath goes from the camera
 // to x_0 (to x_1 for a point light, which no camera path reaches), the light subpath from x_0 to
 // x_{n-2} (none for the sky; its y_0.pdf_fwd is 0 if the light is never chosen). Nothing if some

@@ -58,9 +58,9 @@ void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
                                 "(camera paths escaping, light samples), as in lesson 5"
                               : "the sky leaves no photons: its light after a bounce is missing "
                                 "(only the light sample at the first diffuse vertex sees it)");
-    if (contents.point_lights && contents.delta_materials)
+    if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
-            "a point light seen in a mirror or through glass is missing: a delta light, a delta "
+            "a point or directional light seen in a mirror or through glass is missing: a delta light, a delta "
             "BSDF and the pinhole make a path no estimator can (its caustics, seen any way, are "
             "the photons')");
     if (contents.point_light_in_view && !joined)

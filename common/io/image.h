@@ -1,4 +1,5 @@
-// Linear RGB images, and writing them as linear EXR (radiance) and sRGB PNG (for looking at).
+// Linear RGB images, and writing them as linear EXR (radiance) and sRGB PNG (for looking at);
+// reading EXR (image_exr.cpp, through OpenEXR), Radiance .hdr (image_hdr.cpp), PNG and JPEG.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,9 @@ namespace lessons {
 struct Image {
     int width = 0, height = 0;
     std::vector<Color> pixels;  // row-major, top row first
+    // What reading approximated, one sentence each naming the file (a multi-part EXR's other
+    // parts ignored); the caller passes them on as notes.
+    std::vector<std::string> notes;
 
     Image() = default;
     Image(int w, int h) : width(w), height(h), pixels(static_cast<size_t>(w) * h, Color(0.0f)) {}
@@ -22,24 +26,19 @@ struct Image {
 // The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
 float srgb_encode(float linear);
 
-// Writes 32-bit float linear RGB. Throws std::runtime_error on failure.
+// Writes 32-bit float linear RGB as a ZIP-compressed scanline EXR, through OpenEXR (what
+// Blender, tinyexr and every EXR reader read). Throws std::runtime_error on failure.
 void write_exr(const Image& image, const std::string& path);
 // Writes an 8-bit sRGB PNG of the image scaled by 2^exposure_stops: each linear channel is
 // multiplied by the exposure, clamped to [0, 1] (values above 1 saturate to white), encoded with
 // the sRGB curve and rounded to the nearest of 256 levels. Throws std::runtime_error on failure.
 void write_png(const Image& image, const std::string& path, float exposure_stops = 0.0f);
-// Reads an EXR's RGB channels. Throws std::runtime_error naming the file on failure.
+// Reads an EXR's R, G and B channels (any alpha ignored), or its Y channel as grey, through
+// OpenEXR: every compression it reads (none, RLE, ZIPS, ZIP, PIZ, PXR24, B44, B44A, DWAA, DWAB),
+// half, float or uint pixels, scanlines or tiles (the full-resolution level), the data window;
+// of a multi-part file the first part, with a note. The header is checked first
+// (check_exr_header, exr_file.h). Throws an InputError naming the file (and the attribute).
 Image read_exr(const std::string& path);
-// Checks what Debian's tinyexr (1.0.1) would abort on, allocate without bound for, or misread,
-// instead of reporting an error: a tiled, deep or multi-part file (the suite reads single-part
-// scanline EXR files), a "type" other than a scanline image, a data window whose size overflows int
-// arithmetic or whose pixels, or channel samples, exceed 4096 per byte of the file, a "chunkCount"
-// that is not the data window's, a line-offset table whose chunks do not each lie in the file
-// holding their own lines in order, PIZ chunks too short for their bitmap and Huffman header, more
-// than 1024 attributes. Throws an InputError naming the file (and the attribute); leaves every
-// other fault to tinyexr's own errors. Call it before any tinyexr function that parses the file's
-// header.
-void check_exr_header(const std::string& path);
 // Reads a Radiance .hdr (RGBE) file's linear RGB with stb_image's float loader (no curve), after
 // check_hdr_file. Throws an InputError naming the file on failure.
 Image read_hdr(const std::string& path);

@@ -127,7 +127,7 @@ void check_hdr_file(const std::string& path, const std::vector<unsigned char>& b
         const char* why = stbi_failure_reason();
         fail(path, std::string("stb_image cannot read its size") + (why ? std::string(": ") + why : ""));
     }
-    // As for an EXR: sizes within tinyexr's limit per side, fewer than 2^31 pixels, and no more
+    // As for an EXR: at most 8,388,608 pixels a side, fewer than 2^31 pixels, and no more
     // pixels than the file can encode. RGBE's run-length code packs at most 127 pixels into 8
     // bytes (a run of 127 in each of the 4 components): 16 pixels per byte is a bound. (And
     // stb_image allocates at most INT_MAX bytes, 3 floats a pixel.)

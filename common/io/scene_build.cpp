@@ -35,7 +35,7 @@ void read_albedo_texture(Material& m, const SourceLocation& where, const InputLi
         try {
             it = textures
                      .emplace(m.albedo.image_file,
-                              read_texture(m.albedo.image_file, limits.file_bytes()))
+                              read_texture(m.albedo.image_file, limits.file_bytes(), &scene.notes))
                      .first;
         } catch (const InputError& e) {
             throw InputError(where.file, where.line, where.field, e.what());
@@ -59,6 +59,7 @@ void read_environment_map(const SceneDescription& d, const InputLimits& limits, 
         check_input_file(d.background_map, "environment map", limits.file_bytes(), "--max-file-mb");
         image = read_linear_image(d.background_map);
         record_input(scene, d.background_map);
+        scene.notes.insert(scene.notes.end(), image.notes.begin(), image.notes.end());
     } catch (const InputError& e) {
         throw InputError(w.file, w.line, w.field, e.what());
     } catch (const std::runtime_error& e) {
@@ -396,6 +397,8 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
     const Materials materials = add_materials(d, options.limits, textures, scene);
     add_shapes(d, materials, options.limits, textures, scene);
     for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
+    for (const DirectionalLightDescription& l : d.directional_lights)
+        scene.add_directional_light(l.light);
     warn_of_a_camera_inside(d);
     scene.commit(options.threads);
     return scene;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -91,21 +92,48 @@ void for_each_table(TableReader& top, const std::string& file, const std::string
     }
 }
 
-PointLightDescription parse_light(const toml::table& t, const std::string& file, size_t index) {
+// A spot's cone from its half-angle to the edge (degrees) and its blend: the fraction of the
+// cone's 1 - cos over which it fades to nothing (Blender's spot blend; SpotCone::falloff).
+SpotCone spot_cone(TableReader& l, const Vec3& direction) {
+    const double angle = l.number_in("cone_angle", 0.0, 90.0, true, false);
+    const double blend = l.number_in("cone_blend", 0.0, 1.0, false, false, 0.0);
+    const double cos_outer = std::cos(angle * 3.14159265358979323846 / 180.0);
+    const double cos_inner = cos_outer + blend * (1.0 - cos_outer);
+    return {glm::normalize(direction), static_cast<float>(cos_outer),
+            static_cast<float>(cos_inner)};
+}
+
+void parse_light(const toml::table& t, const std::string& file, size_t index,
+                 SceneDescription& d) {
     const std::string path = "lights[" + std::to_string(index) + "]";
     TableReader l(t, file, path);
     const std::string type = l.string("type");
-    if (type != "point") {
-        const std::vector<std::string> types = {"point"};
+    const std::vector<std::string> types = {"point", "spot", "directional"};
+    if (std::find(types.begin(), types.end(), type) == types.end())
         l.fail("type", "unknown light type '" + type + "'" + did_you_mean(type, types) +
-                           " (known: point; area lights are shapes with an emissive material)");
+                           " (known: point, spot, directional; area lights are shapes with an "
+                           "emissive material)");
+    if (type == "directional") {
+        DirectionalLightDescription dl;
+        dl.where = {file, l.line(), path};
+        dl.light.direction = glm::normalize(l.nonzero_vec3("direction"));
+        dl.light.irradiance = l.color("irradiance", false);
+        l.reject_unknown({"type", "direction", "irradiance"}, "a directional light");
+        d.directional_lights.push_back(dl);
+        return;
     }
     PointLightDescription p;
     p.where = {file, l.line(), path};
     p.light.position = l.vec3("position");
     p.light.intensity = l.color("intensity", false);
-    l.reject_unknown({"type", "position", "intensity"}, "a point light");
-    return p;
+    if (type == "spot") {
+        p.light.cone = spot_cone(l, l.nonzero_vec3("direction"));
+        l.reject_unknown({"type", "position", "intensity", "direction", "cone_angle", "cone_blend"},
+                         "a spot light");
+    } else {
+        l.reject_unknown({"type", "position", "intensity"}, "a point light");
+    }
+    d.point_lights.push_back(p);
 }
 
 SceneDescription parse_table(const toml::table& root, const std::string& file) {
@@ -129,12 +157,12 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
         d.shapes.push_back(scene_file::parse_shape(t, file, i));
     });
     for_each_table(top, file, "lights", [&](const toml::table& t, size_t i) {
-        d.point_lights.push_back(parse_light(t, file, i));
+        parse_light(t, file, i, d);
     });
     top.reject_unknown(
         {"description", "image", "camera", "background", "materials", "shapes", "lights"},
         "the scene");
-    if (d.shapes.empty() && d.point_lights.empty())
+    if (d.shapes.empty() && d.point_lights.empty() && d.directional_lights.empty())
         throw InputError(file, 0, "shapes", "the scene is empty: no shapes and no lights");
     return d;
 }

@@ -67,6 +67,11 @@ struct PointLightDescription {
     SourceLocation where;
 };
 
+struct DirectionalLightDescription {
+    DirectionalLight light;
+    SourceLocation where;
+};
+
 struct SceneDescription {
     std::string file;
     std::string description;
@@ -81,7 +86,8 @@ struct SceneDescription {
     SourceLocation background_where;
     std::vector<MaterialDescription> materials;
     std::vector<ShapeDescription> shapes;
-    std::vector<PointLightDescription> point_lights;
+    std::vector<PointLightDescription> point_lights;  // point and spot lights
+    std::vector<DirectionalLightDescription> directional_lights;
     std::vector<std::string> notes;  // what loading approximated (Scene::notes)
     // The files stage 1 read: the scene file; for a glTF file taken as the whole scene, that
     // file and the buffers and images it names. Stage 2 adds what it reads (Scene::input_files).

@@ -10,7 +10,8 @@
 
 namespace lessons {
 
-std::shared_ptr<const ImageTexture> read_texture(const std::string& path, uint64_t max_bytes) {
+std::shared_ptr<const ImageTexture> read_texture(const std::string& path, uint64_t max_bytes,
+                                                 std::vector<std::string>* notes) {
     check_input_file(path, "texture", max_bytes, "--max-file-mb");
     Image image;
     try {
@@ -20,6 +21,7 @@ std::shared_ptr<const ImageTexture> read_texture(const std::string& path, uint64
     }
     if (image.width <= 0 || image.height <= 0)
         throw InputError(path, 0, "", "the texture has no pixels");
+    if (notes) notes->insert(notes->end(), image.notes.begin(), image.notes.end());
     auto texture = std::make_shared<ImageTexture>();
     texture->width = image.width;
     texture->height = image.height;

@@ -6,14 +6,17 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "materials/material.h"
 
 namespace lessons {
 
-// Reads `path` (a regular file of at most max_bytes). Throws InputError naming the file, and
-// the texel for a bad value.
-std::shared_ptr<const ImageTexture> read_texture(const std::string& path, uint64_t max_bytes);
+// Reads `path` (a regular file of at most max_bytes); what reading approximated (a multi-part
+// EXR's other parts ignored) is added to `notes`, if given. Throws InputError naming the file,
+// and the texel for a bad value.
+std::shared_ptr<const ImageTexture> read_texture(const std::string& path, uint64_t max_bytes,
+                                                 std::vector<std::string>* notes = nullptr);
 
 // Textures read so far while building one scene, by path.
 using TextureCache = std::map<std::string, std::shared_ptr<const ImageTexture>>;

@@ -35,18 +35,36 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         }
     }
     light_of_point_.assign(scene.point_lights().size(), SIZE_MAX);
+    light_of_directional_.assign(scene.directional_lights().size(), SIZE_MAX);
+    // The scene's bounding sphere, which a directional light's beam must cover.
+    const Bounds3 bounds = scene.bounds();
+    if (!bounds.empty()) {
+        beam_center_ = 0.5f * (bounds.min + bounds.max);
+        beam_radius_ = std::max(0.5f * glm::length(bounds.extent()), 1e-3f);
+    }
     std::vector<double> power;
-    // Each light's power, and where the sampler finds it again; a point or area light that sends
-    // nothing (or no finite power) is never chosen.
+    // Each light's power, and where the sampler finds it again; a point, directional or area
+    // light that sends nothing (or no finite power) is never chosen.
     for (const LightRef& light : scene.lights()) {
         float p = 0.0f;
         switch (light.kind) {
             case LightKind::Point: {
-                // An isotropic point source of intensity I sends 4 pi I.
-                p = 4.0f * kPi * luminance(scene.point_lights()[light.index].intensity);
+                // An isotropic point source of intensity I sends 4 pi I; a spot, less.
+                const PointLight& l = scene.point_lights()[light.index];
+                p = luminance(l.intensity) * (l.cone ? l.cone->solid_angle() : 4.0f * kPi);
                 if (!(p > 0.0f) || !std::isfinite(p)) continue;
                 light_of_point_[light.index] = lights_.size();
-                has_point_lights_ = true;
+                has_delta_lights_ = true;
+                break;
+            }
+            case LightKind::Directional: {
+                // Irradiance E across the disk of area pi R^2 that the scene's bounding sphere
+                // shows it: the power that reaches the scene.
+                const float e = luminance(scene.directional_lights()[light.index].irradiance);
+                p = e * kPi * beam_radius_ * beam_radius_;
+                if (!(p > 0.0f) || !std::isfinite(p)) continue;
+                light_of_directional_[light.index] = lights_.size();
+                has_delta_lights_ = true;
                 break;
             }
             case LightKind::Area: {
@@ -64,8 +82,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
                 // light is chosen, never the image's mean): the weight used is a quarter of that
                 // power, pi^2 R^2 L, so the sky is chosen less often than its power alone would
                 // say.
-                const Bounds3 b = scene.bounds();
-                const float r = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-3f);
+                const float r = beam_radius_;
                 const Color sky =
                     scene.environment_map ? scene.environment_map->mean() : scene.background;
                 p = kPi * kPi * r * r * luminance(sky);
@@ -110,14 +127,22 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
             const Vec3 d = l.position - at.p;
             const float d2 = glm::dot(d, d);
             if (!(d2 > 0.0f)) return std::nullopt;
-            // Irradiance from a point source facing it: E = I / d^2.
-            s = LightSample{l.intensity / d2,
-                            d / std::sqrt(d2),
-                            std::sqrt(d2),
-                            1.0f,
-                            true,
-                            spawn_ray_to(at, l.position),
-                            std::nullopt};
+            // Irradiance from a point source facing it: E = I / d^2 (a spot's I towards `at`).
+            const Vec3 wi = d / std::sqrt(d2);
+            const Color intensity = l.intensity_towards(-wi);
+            if (is_black(intensity)) return std::nullopt;  // outside a spot's cone
+            s = LightSample{intensity / d2,         wi,   std::sqrt(d2), 1.0f, true,
+                            spawn_ray_to(at, l.position), std::nullopt};
+            s->light_index = e.index;
+            break;
+        }
+        case LightKind::Directional: {
+            const DirectionalLight& l = scene_.directional_lights()[e.index];
+            const Vec3 wi = -l.direction;
+            s = LightSample{l.irradiance,         wi,         kInfinity, 1.0f, true,
+                            spawn_ray(at, wi), std::nullopt};
+            s->light_index = e.index;
+            s->directional = true;
             break;
         }
         case LightKind::Area: return sample_area(e.index, at, u, choose);  // the common case
@@ -261,10 +286,44 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
     switch (e.kind) {
         case LightKind::Point: {
             const PointLight& l = scene_.point_lights()[e.index];
-            const Vec3 w = sample_uniform_sphere(u_dir);
-            return EmissionSample{
-                Ray{l.position, w, kInfinity}, l.position,  Vec3(0.0f), l.intensity, choose,
-                uniform_sphere_pdf(),          std::nullopt};
+            // Isotropic: uniform on the sphere; a spot: uniform in its cone.
+            Vec3 w;
+            float pdf_dir;
+            if (l.cone) {
+                const float one_minus_cos = 1.0f - l.cone->cos_outer;
+                w = glm::normalize(Frame(l.cone->axis).to_world(
+                    sample_uniform_cone(u_dir, one_minus_cos)));
+                pdf_dir = uniform_cone_pdf(one_minus_cos);
+            } else {
+                w = sample_uniform_sphere(u_dir);
+                pdf_dir = uniform_sphere_pdf();
+            }
+            const Color intensity = l.intensity_towards(w);
+            if (is_black(intensity)) return std::nullopt;
+            EmissionSample s{
+                Ray{l.position, w, kInfinity}, l.position, Vec3(0.0f), intensity, choose, pdf_dir,
+                std::nullopt};
+            s.light_index = e.index;
+            return s;
+        }
+        case LightKind::Directional: {
+            const DirectionalLight& l = scene_.directional_lights()[e.index];
+            // A point uniform on the disk of radius R facing the light, just outside the
+            // bounding sphere on the light's side (beam_origin).
+            const Vec2 disk = sample_concentric_disk(u_point);
+            const Frame frame(l.direction);
+            const Vec3 origin = beam_origin(
+                l.direction, beam_center_ + frame.to_world(Vec3(disk.x, disk.y, 0.0f)) * beam_radius_);
+            EmissionSample s{Ray{origin, l.direction, kInfinity},
+                             origin,
+                             l.direction,
+                             l.irradiance,
+                             choose,
+                             1.0f / (kPi * beam_radius_ * beam_radius_),
+                             std::nullopt};
+            s.directional = true;
+            s.light_index = e.index;
+            return s;
         }
         case LightKind::Area: return sample_area_emission(e.index, choose, u_point, u_dir);
         case LightKind::Environment: return std::nullopt;  // starts no light path (lights.h)
@@ -303,9 +362,22 @@ std::optional<EmissionSample> LightSampler::sample_area_emission(uint32_t area_l
                           on.error};
 }
 
-LightSampler::EmissionPdf LightSampler::point_emission_pdf(uint32_t index) const {
+LightSampler::EmissionPdf LightSampler::point_emission_pdf(uint32_t index, const Vec3& w) const {
     if (index >= light_of_point_.size() || light_of_point_[index] == SIZE_MAX) return {};
-    return {choice_probability(light_of_point_[index]), uniform_sphere_pdf()};
+    const PointLight& l = scene_.point_lights()[index];
+    float dir = uniform_sphere_pdf();
+    if (l.cone)
+        dir = glm::dot(l.cone->axis, w) > l.cone->cos_outer
+                  ? uniform_cone_pdf(1.0f - l.cone->cos_outer)
+                  : 0.0f;
+    return {choice_probability(light_of_point_[index]), dir};
+}
+
+LightSampler::EmissionPdf LightSampler::directional_emission_pdf(uint32_t index) const {
+    if (index >= light_of_directional_.size() || light_of_directional_[index] == SIZE_MAX)
+        return {};
+    return {choice_probability(light_of_directional_[index]),
+            1.0f / (kPi * beam_radius_ * beam_radius_)};
 }
 
 LightSampler::EmissionPdf LightSampler::emission_pdf(PrimRef light, const Vec3& n_q,

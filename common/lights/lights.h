@@ -1,7 +1,8 @@
 // Light sampling for lessons 3 to 5: choose a light, then a point on it, and say how likely
 // that choice was, per unit solid angle as seen from the shading point.
 //
-// Lights: point lights (intensity I, W/sr), emissive surfaces (radiance L_e; quads, triangles
+// Lights: point lights (intensity I, W/sr; a spot's fades with its cone), directional lights
+// (irradiance E, W/m^2, from one direction), emissive surfaces (radiance L_e; quads, triangles
 // and spheres, one-sided unless the material says two-sided), and the uniform environment
 // (the scene's background radiance). A light is chosen with probability proportional to its
 // power (though none of positive power less often than 2^-24: sampling/discrete.h); then
@@ -13,7 +14,8 @@
 //   spheres: a direction uniform in the cone the sphere subtends (from inside: by area);
 //   environment: a uniform sky, a direction uniform on the sphere, 1 / (4 pi); a map, by its
 //     importance, luminance times sin(theta) per texel (scene/environment.h);
-//   point lights: their position (a delta distribution).
+//   point and spot lights: their position (a delta distribution);
+//   directional lights: their direction (a delta distribution too).
 #pragma once
 
 #include <optional>
@@ -44,34 +46,47 @@ inline float solid_angle_to_area_pdf(float pdf_solid_angle, float distance_squar
 
 struct LightSample {
     // Radiance arriving at the shading point from the sampled light point, W/(sr m^2). For a
-    // point light (is_delta), the irradiance it gives a surface facing it, I / d^2, W/m^2.
+    // point light (is_delta), the irradiance it gives a surface facing it, I / d^2, W/m^2 (a
+    // spot's I along wi); for a directional light, its irradiance E.
     Color radiance;
     Vec3 wi;         // unit direction from the shading point to the light
-    float distance;  // to the sampled point; infinite for the environment
+    float distance;  // to the sampled point; infinite for the environment and directional lights
     float pdf;       // solid-angle density of wi, times the probability of choosing the light;
-                     // for a point light: that probability alone
-    bool is_delta;   // a point light: no BSDF sample can ever hit it
+                     // for a point or directional light: that probability alone
+    bool is_delta;   // a point or directional light: no BSDF sample can ever hit it
     Ray shadow_ray;  // the segment that must be unoccluded (robustly offset at both ends)
     std::optional<PrimRef> emitter;  // the primitive the segment ends on, which cannot block it
     Vec3 point{0.0f}, normal{0.0f};  // on an area light: the sampled point and its unit normal
+    // A point or directional light's index, into scene.point_lights() or directional_lights().
+    uint32_t light_index = 0;
+    bool directional = false;
 };
 
 // Light leaving a light, for light paths (lesson 5): a light chosen by power as sample() chooses,
 // then
 //   an area light: a point uniform by area on it, and a direction distributed as cos(theta)
 //     about the emitting side's normal (either side of a two-sided light, half the time each);
-//   a point light: its position, and a direction uniform on the sphere.
+//   a point light: its position, and a direction uniform on the sphere (a spot: in its cone);
+//   a directional light: its direction, from a point uniform on the disk, facing it, that the
+//     scene's bounding sphere shows it (radius R, centred on the sphere's centre and placed
+//     just outside it), so every ray of its light that meets the scene starts on the disk.
 // The environment starts none (lesson 5 says why).
 struct EmissionSample {
     Ray ray;         // leaving the light
     Vec3 point;      // where it leaves
-    Vec3 normal;     // unit geometric normal there, on the side the ray leaves (zero: point light)
-    Color radiance;  // L_e along the ray, W/(sr m^2); for a point light its intensity I, W/sr
-    float pdf_area;  // density of the point: choice probability / area, per m^2 (point light:
-                     // the choice probability alone, a discrete choice of a delta position)
-    float pdf_dir;   // density of the direction, per sr
-    std::optional<PrimRef> emitter;  // the emissive primitive; none for a point light
+    Vec3 normal;     // unit geometric normal there, on the side the ray leaves (zero: point
+                     // light; a directional light's: its direction of travel)
+    Color radiance;  // L_e along the ray, W/(sr m^2); for a point light its intensity I along
+                     // the ray, W/sr; for a directional light its irradiance E, W/m^2
+    float pdf_area;  // density of the point: choice probability / area, per m^2 (point and
+                     // directional lights: the choice probability alone, a discrete choice of
+                     // a delta position or direction)
+    float pdf_dir;   // density of the direction, per sr (a directional light: of the point on
+                     // its disk, per m^2 across the beam: 1 / (pi R^2))
+    std::optional<PrimRef> emitter;  // the emissive primitive; none for point/directional lights
     Vec3 error{0.0f};                // bound on the rounding error of `point` (for rays to it)
+    bool directional = false;        // from a directional light
+    uint32_t light_index = 0;        // a point or directional light's, as in LightSample
     bool is_delta() const { return !emitter; }
 };
 
@@ -81,7 +96,9 @@ public:
 
     bool empty() const { return lights_.empty(); }
     size_t size() const { return lights_.size(); }
-    bool has_point_lights() const { return has_point_lights_; }
+    // Whether some light is a delta one: a point, spot or directional light that no BSDF-sampled
+    // direction can find.
+    bool has_delta_lights() const { return has_delta_lights_; }
 
     // A light sample for the shading point `at`, from three uniform numbers. None if the
     // scene has no lights, or the sampled point cannot send light to `at` (e.g. the back of a
@@ -106,9 +123,21 @@ public:
         float area = 0.0f, dir = 0.0f;
     };
     EmissionPdf emission_pdf(PrimRef light, const Vec3& n_q, const Vec3& w) const;
-    // The same for point light `index` (into scene.point_lights()): its choice probability, and
-    // the uniform sphere's 1 / (4 pi) for any direction.
-    EmissionPdf point_emission_pdf(uint32_t index) const;
+    // The same for point light `index` (into scene.point_lights()) sending light along unit
+    // direction w: its choice probability, and the uniform sphere's 1 / (4 pi) (a spot: the
+    // uniform cone's, within its cone).
+    EmissionPdf point_emission_pdf(uint32_t index, const Vec3& w) const;
+    // The same for directional light `index` (into scene.directional_lights()): its choice
+    // probability, and per m^2 across its beam, 1 / (pi R^2) (sample_emission's disk).
+    EmissionPdf directional_emission_pdf(uint32_t index) const;
+    // The radius R of the disk that directional lights start their light from (lights.h).
+    float beam_radius() const { return beam_radius_; }
+    // Where on the plane of that disk (for light travelling along unit `direction`) the ray
+    // starts that passes through `through`.
+    Vec3 beam_origin(const Vec3& direction, const Vec3& through) const {
+        const float along = glm::dot(through - beam_center_, direction) + 1.001f * beam_radius_;
+        return through - along * direction;
+    }
 
 private:
     // The light a uniform number picks, in proportion to power (an index into lights_).
@@ -132,10 +161,14 @@ private:
     std::vector<float> cdf_;  // cumulative choice probabilities (sampling/discrete.h)
     std::unordered_map<uint32_t, size_t> light_of_primitive_;
     std::vector<size_t> light_of_point_;  // per point light: its index in lights_, or SIZE_MAX
+    std::vector<size_t> light_of_directional_;  // the same per directional light
     // Per area light: its rectangle, for those sampled by solid angle (AreaLight::rectangle).
     std::vector<std::optional<Rectangle>> rectangles_;
     std::optional<size_t> environment_;
-    bool has_point_lights_ = false;
+    bool has_delta_lights_ = false;
+    // The scene's bounding sphere: a directional light's beam covers it (sample_emission).
+    Vec3 beam_center_{0.0f};
+    float beam_radius_ = 1.0f;
 };
 
 }  // namespace lessons

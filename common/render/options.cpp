@@ -17,7 +17,10 @@ namespace {
 // What to render and where to write it: the scene, the output, the samples and their part, the
 // image's size, threads, seed, report, exposure, progress.
 void add_output_options(CLI::App& app, CommonOptions& o) {
-    app.add_option("--scene", o.scene, "Scene file (TOML), see docs/scene-format.md")
+    app.add_option("--scene", o.scene,
+                   "Scene file (TOML, or glTF), see docs/scene-format.md; or the name of a "
+                   "scene the suite ships (cornell_box, hard/cornell_tiny), when no such file "
+                   "is here")
         ->capture_default_str();
     app.add_option("--out", o.out,
                    "Output prefix: writes PREFIX.exr (linear radiance) and PREFIX.png (sRGB); "
@@ -27,7 +30,8 @@ void add_output_options(CLI::App& app, CommonOptions& o) {
     app.add_option("--samples", o.samples,
                    "A part of a render split across jobs (docs/farm.md): render sample indices "
                    "A .. B-1 of every pixel (--spp N is --samples 0:N) and write a part EXR, "
-                   "which build/bin/merge joins with the others");
+                   "which merge (build/bin/merge; installed, illumination-merge) joins with the "
+                   "others");
     app.add_option("--pixels", o.pixels,
                    "A part that is a crop X0:X1,Y0:Y1 of the image (pixels X0 .. X1-1 and "
                    "Y0 .. Y1-1, in the whole image's coordinates), written as a part EXR");

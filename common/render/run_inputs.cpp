@@ -3,10 +3,12 @@
 // stops the run before it renders (see app.h).
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
+#include "io/shipped_files.h"
 #include "render/app.h"
 #include "render/part.h"
 
@@ -65,6 +67,7 @@ Image read_reference(const CommonOptions& o, const Scene& scene) {
     Image reference;
     try {
         reference = read_exr(o.reference);
+        for (const std::string& note : reference.notes) std::cerr << "note: " << note << "\n";
     } catch (const std::runtime_error& e) {
         throw InputError("command line", 0, "--reference", e.what());
     }
@@ -106,7 +109,7 @@ void apply_albedo(float rho, Scene& scene) {
 }  // namespace
 
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
-    in.scene = load_scene(o.scene, {o.width, o.height, o.limits, o.threads});
+    in.scene = load_scene(find_scene_file(o.scene), {o.width, o.height, o.limits, o.threads});
     check_memory(in.scene.width, in.scene.height);
     apply_naive_methods(o.naive, in.scene.naive);
     apply_albedo(o.albedo, in.scene);

@@ -425,8 +425,10 @@ Color Scene::emitted(const SurfaceInteraction& si) const {
 
 std::vector<LightRef> Scene::lights() const {
     std::vector<LightRef> lights;
-    lights.reserve(point_lights_.size() + area_lights_.size() + 1);
+    lights.reserve(point_lights_.size() + directional_lights_.size() + area_lights_.size() + 1);
     for (uint32_t i = 0; i < point_lights_.size(); ++i) lights.push_back({LightKind::Point, i});
+    for (uint32_t i = 0; i < directional_lights_.size(); ++i)
+        lights.push_back({LightKind::Directional, i});
     for (uint32_t i = 0; i < area_lights_.size(); ++i) lights.push_back({LightKind::Area, i});
     if (has_environment()) lights.push_back({LightKind::Environment, 0});
     return lights;
@@ -438,12 +440,15 @@ SceneContents Scene::contents() const {
         switch (light.kind) {
             case LightKind::Point: {
                 c.point_lights = true;
-                const Vec3 d = point_lights_[light.index].position - camera.position();
-                if (glm::dot(d, d) > 0.0f)
+                const PointLight& l = point_lights_[light.index];
+                const Vec3 d = l.position - camera.position();
+                // In the image, and (a spot) sending some light towards the camera.
+                if (glm::dot(d, d) > 0.0f && !is_black(l.intensity_towards(-glm::normalize(d))))
                     c.point_light_in_view |=
                         camera.raster_position(glm::normalize(d), width, height).has_value();
                 break;
             }
+            case LightKind::Directional: c.directional_lights = true; break;
             case LightKind::Area: c.area_lights = true; break;
             case LightKind::Environment: c.environment = true; break;
         }

@@ -33,9 +33,46 @@ struct Triangle {
 };
 static_assert(sizeof(Triangle) == 16);
 
+// A point light: radiant intensity I (W/sr) from one point, the same in every direction; or, with
+// a cone, a spot light: I along its axis, fading to nothing at the cone's edge.
+struct SpotCone {
+    Vec3 axis;        // unit, the direction the spot points
+    float cos_outer;  // cos of the half-angle to the cone's edge: no light beyond it
+    float cos_inner;  // cos of the half-angle within which the full intensity leaves (>= cos_outer)
+    // The fraction of the intensity that leaves along unit direction w: 1 within the inner cone,
+    // 0 beyond the outer, and between them smoothstep(t) = t^2 (3 - 2 t) of
+    // t = (cos - cos_outer) / (cos_inner - cos_outer), as Blender's spot blend fades.
+    float falloff(const Vec3& w) const {
+        const float c = glm::dot(axis, w);
+        if (c <= cos_outer) return 0.0f;
+        if (c >= cos_inner) return 1.0f;
+        const float t = (c - cos_outer) / (cos_inner - cos_outer);
+        return t * t * (3.0f - 2.0f * t);
+    }
+    // The integral of falloff over the sphere, sr: 2 pi times the integral over cos theta, the
+    // full part (1 - cos_inner) plus the fade's, where smoothstep averages 1/2.
+    float solid_angle() const {
+        return 2.0f * kPi * ((1.0f - cos_inner) + 0.5f * (cos_inner - cos_outer));
+    }
+};
+
 struct PointLight {
     Vec3 position;
-    Color intensity;  // radiant intensity, W/sr, the same in every direction
+    Color intensity;                 // radiant intensity, W/sr (a spot's: along its axis)
+    std::optional<SpotCone> cone = std::nullopt;  // a spot light's; none: the same everywhere
+    // The intensity leaving along unit direction w.
+    Color intensity_towards(const Vec3& w) const {
+        return cone ? intensity * cone->falloff(w) : intensity;
+    }
+    // Power, W per channel: 4 pi I, or I times the spot's solid_angle.
+    Color power() const { return intensity * (cone ? cone->solid_angle() : 4.0f * kPi); }
+};
+
+// A directional light (the sun, as a renderer models it): parallel light from infinitely far
+// away, the same irradiance E on every surface facing it, E cos(theta) on one tilted by theta.
+struct DirectionalLight {
+    Vec3 direction;    // unit, the way the light travels
+    Color irradiance;  // E, W/m^2 per channel, on a surface facing the light
 };
 
 // An emissive surface. Its radiance comes from its material; the geometry summary here is
@@ -56,13 +93,14 @@ struct AreaLight {
 // that must tell them apart switches on the kind, once per purpose (docs/architecture.md lists
 // where: "A light").
 enum class LightKind {
-    Point,        // a PointLight
+    Point,        // a PointLight (and spot lights)
+    Directional,  // a DirectionalLight
     Area,         // an AreaLight: an emissive primitive
     Environment,  // the background: a uniform sky or an environment map
 };
 
-// One light of a scene: its kind, and its index into Scene::point_lights() or area_lights()
-// (0 for the environment, of which a scene has at most one).
+// One light of a scene: its kind, and its index into Scene::point_lights(),
+// directional_lights() or area_lights() (0 for the environment, of which a scene has at most one).
 struct LightRef {
     LightKind kind;
     uint32_t index;
@@ -88,7 +126,8 @@ struct NaiveMethods {
 
 // What a scene holds, as far as a lesson's model cares (for its notes and its bias).
 struct SceneContents {
-    bool point_lights = false;
+    bool point_lights = false;         // point and spot lights
+    bool directional_lights = false;
     bool area_lights = false;
     bool environment = false;          // a background of nonzero radiance
     bool delta_materials = false;      // a mirror or glass on some shape
@@ -109,6 +148,7 @@ public:
     void add_mesh(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
                   const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles);
     void add_point_light(const PointLight& l) { point_lights_.push_back(l); }
+    void add_directional_light(const DirectionalLight& l) { directional_lights_.push_back(l); }
     // Replaces material i's reflectance parameters. Its emission must stay as it was: the area
     // lights were collected from it (--albedo changes only reflectances).
     void replace_material(uint32_t i, const Material& m);
@@ -134,8 +174,9 @@ public:
     const std::vector<Material>& materials() const { return materials_; }
     const Material& material(uint32_t i) const { return materials_[i]; }
     const std::vector<PointLight>& point_lights() const { return point_lights_; }
+    const std::vector<DirectionalLight>& directional_lights() const { return directional_lights_; }
     const std::vector<AreaLight>& area_lights() const { return area_lights_; }
-    // Every light, in one order: the point lights, the area lights (found by commit()), then the
+    // Every light, in one order: the point lights, the directional lights, the area lights (found by commit()), then the
     // environment if there is one (has_environment()). The light sampler's choice and lesson
     // 1's sum over lights follow this order.
     std::vector<LightRef> lights() const;
@@ -227,6 +268,7 @@ private:
     LargePageVector<QuadBlock> quad_blocks_;          // the same for quads
 
     std::vector<PointLight> point_lights_;
+    std::vector<DirectionalLight> directional_lights_;
     std::vector<AreaLight> area_lights_;
     Bvh bvh_;
 };

@@ -4,21 +4,25 @@
 # Slurm array job with a dependent merge job, and how to watch and merge them.
 #
 #   scripts/farm/plan.sh --lesson LESSON --spp N --parts K [--tiles CxR] [--dir DIR]
-#                        [--threads T] [--slurm] [--bin DIR] [--jobs J] -- LESSON_FLAGS...
+#                        [--threads T] [--hosts H1,H2] [--slurm] [--bin DIR] [--jobs J]
+#                        -- LESSON_FLAGS...
 #
 # The parts are K ranges of sample indices (and, with --tiles, C x R crops of the image each:
 # K x C x R parts; --tiles needs --width and --height among the lesson's flags). Each part runs
 # on T threads (default 1; a Slurm task asks for T CPUs), GNU parallel runs J at once (default:
 # cores / T). Each part is one line of DIR/parts.txt; DIR/part_files.txt lists the part EXRs.
+# With --hosts (GNU parallel's --sshlogin list), the line that runs them over ssh is printed ready
+# to run; without, it is printed as a comment with HOST1,HOST2 to fill in.
 # With --slurm, also writes DIR/farm.sbatch (task i runs line i + 1) and DIR/merge.sbatch.
 # Nothing is run here.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 
-usage() { sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 die() { echo "plan.sh: error: $*" >&2; exit 2; }
 
 LESSON="" SPP="" PARTS="" TILES="1x1" DIR="farm" SLURM=0 BIN="$ROOT/build/bin" JOBS="" THREADS=1
+HOSTS=""
 while [ $# -gt 0 ]; do
     case $1 in
         --lesson) LESSON=$2; shift 2 ;;
@@ -29,6 +33,7 @@ while [ $# -gt 0 ]; do
         --bin) BIN=$2; shift 2 ;;
         --jobs) JOBS=$2; shift 2 ;;
         --threads) THREADS=$2; shift 2 ;;
+        --hosts) HOSTS=$2; shift 2 ;;
         --slurm) SLURM=1; shift ;;
         --help|-h) usage ;;
         --) shift; break ;;
@@ -43,6 +48,7 @@ FLAGS=("$@")
 [[ $THREADS =~ ^[1-9][0-9]*$ ]] || die "--threads: '$THREADS' is not a positive count"
 [ -n "$JOBS" ] || JOBS=$(( $(nproc) / THREADS > 0 ? $(nproc) / THREADS : 1 ))
 [[ $JOBS =~ ^[1-9][0-9]*$ ]] || die "--jobs: '$JOBS' is not a positive count"
+[[ -z $HOSTS || $HOSTS =~ ^[^[:space:]]+$ ]] || die "--hosts: '$HOSTS' is not a comma-separated list of ssh logins"
 [[ $TILES =~ ^([1-9][0-9]*)x([1-9][0-9]*)$ ]] || die "--tiles: '$TILES' is not COLUMNSxROWS"
 COLS=${BASH_REMATCH[1]} ROWS=${BASH_REMATCH[2]}
 [ -x "$BIN/$LESSON" ] || die "--lesson: no $BIN/$LESSON (build first: scripts/test.sh --quick, or cmake --build build)"
@@ -103,7 +109,10 @@ echo "# $n parts of $LESSON at $SPP spp ($PARTS sample ranges x $COLS x $ROWS ti
 echo "# Run them on this machine's cores with GNU parallel:"
 echo "parallel --will-cite --jobs $JOBS --halt soon,fail=1 < $(q "$DIR/parts.txt")"
 echo "# or on other machines that see this folder at the same path (ssh logins):"
-echo "# parallel --will-cite --sshlogin HOST1,HOST2 --workdir $(q "$WORKDIR") --halt soon,fail=1 < $(q "$DIR/parts.txt")"
+LOGINS=HOST1,HOST2
+[ -z "$HOSTS" ] || LOGINS=$(q "$HOSTS")
+SSH_LINE="parallel --will-cite --sshlogin $LOGINS --workdir $(q "$WORKDIR") --halt soon,fail=1 < $(q "$DIR/parts.txt")"
+if [ -n "$HOSTS" ]; then echo "$SSH_LINE"; else echo "# $SSH_LINE"; fi
 echo "# Progress, and a preview of what there is (--out):"
 echo "$STATUS"
 echo "# When every part is there:"
@@ -135,5 +144,5 @@ cd $(q "$WORKDIR")
 srun $MERGE
 SBATCH
     echo "# On a Slurm cluster: the array job, then the merge once every task has succeeded:"
-    echo "jobid=\$(sbatch --parsable --array=0-$((n - 1)) $(q "$DIR/farm.sbatch")) && sbatch --dependency=afterok:\$jobid $(q "$DIR/merge.sbatch")"
+    echo "jobid=\$(sbatch --parsable --array=0-$((n - 1)) $(q "$DIR/farm.sbatch")) && echo \"Submitted array job \$jobid\" && sbatch --dependency=afterok:\$jobid $(q "$DIR/merge.sbatch")"
 fi

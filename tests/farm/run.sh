@@ -2,7 +2,7 @@
 # The farm's tests (docs/farm.md): parts of a render merge back bit for bit into the single run,
 # for every lesson and every way of splitting; every refusal says what is wrong; an interrupted
 # part merges to the image of the samples it holds; scripts/farm/plan.sh with GNU parallel, and
-# its Slurm scripts run task by task as Slurm would run them.
+# its Slurm scripts run task by task as Slurm would run them (with real daemons: live.sh).
 #
 #   tests/farm/run.sh BUILD_DIR merge|refusals|interrupt|plan
 set -euo pipefail
@@ -132,7 +132,7 @@ refusals)
     cp "$WORK/b.exr" "$WORK/flipped.exr"
     python3 -c 'import sys; p, at = sys.argv[1], int(sys.argv[2]); b = bytearray(open(p, "rb").read()); b[at] ^= 0xff; open(p, "wb").write(b)' "$WORK/flipped.exr" $((size - 2000))
     expect_refusal "a damaged part" "$WORK/flipped.exr" "${M[@]}" "$WORK/a.exr" "$WORK/flipped.exr" --out "$WORK/x"
-    # A header changed: the rays' count (a digit for another) passes tinyexr, not the checksum.
+    # A header changed: the rays' count (a digit for another) passes OpenEXR, not the checksum.
     cp "$WORK/b.exr" "$WORK/edited.exr"
     offset=$(grep -abo 'lessons.rays' "$WORK/edited.exr" | head -1 | cut -d: -f1)
     value_at=$((offset + ${#LESSONS_RAYS_NAME} + 1 + 7 + 4))  # name, NUL, "string", NUL, size
@@ -209,6 +209,8 @@ plan)
     bash -n "$WORK/slurm/farm.sbatch" && bash -n "$WORK/slurm/merge.sbatch"
     grep -q "^#SBATCH --array=0-7" "$WORK/slurm/farm.sbatch" || fail "farm.sbatch has no --array"
     grep -q "^#SBATCH --cpus-per-task=1" "$WORK/slurm/farm.sbatch" || fail "farm.sbatch asks for no CPUs"
+    grep -q '^# parallel --will-cite --sshlogin HOST1,HOST2 ' "$WORK/slurm_plan.txt" ||
+        fail "without --hosts, the ssh line is not a comment with HOST1,HOST2 to fill in"
     expect_refusal "plan.sh: --spp among the lesson's flags" "the plan sets --spp itself" \
         scripts/farm/plan.sh --lesson $L --spp 24 --parts 8 --dir "$WORK/bad" --bin "$BIN" -- --spp=4
     expect_refusal "plan.sh: tiles without a size" "--tiles: give the image size" \
@@ -224,6 +226,14 @@ plan)
     PATH="$WORK/stub:$PATH" bash "$WORK/slurm/merge.sbatch"
     same "$WORK/single.exr" "$WORK/slurm/merged.exr" "the Slurm scripts, 8 tasks"
     echo "ok: the Slurm array job's 8 tasks and its merge job (srun stubbed) give the single run, bit for bit"
+    # The last sample range not there: the parts there hold every sample they were asked for
+    # (0:21), and the farm is still incomplete.
+    rm "$WORK/slurm/part_0007.exr"
+    "$BIN/merge" --status $(cat "$WORK/slurm/part_files.txt") > "$WORK/status.txt"
+    grep -qF "$WORK/slurm/part_0007.exr: not there yet" "$WORK/status.txt" &&
+        tail -1 "$WORK/status.txt" | grep -qx "incomplete: 1 of the 8 parts named is not there or unreadable" ||
+        { cat "$WORK/status.txt"; fail "merge --status does not see the last part missing"; }
+    echo "ok: merge --status: the last sample range not there leaves the farm incomplete"
     ;;
 *)
     fail "unknown mode $MODE" ;;

@@ -1,6 +1,8 @@
 // Fuzzing the EXR image reader (references, environment maps, textures): any file must read as
-// an image or give an error naming it, never crash or abort. tinyexr reads from a file, so each
-// input is written to this process's scratch file first.
+// an image or give an error naming it, never crash or abort. The reader opens a file (OpenEXR's
+// two libraries, the header check's and the decoder's), so each input is written to this
+// process's scratch file first. OpenEXR is not built with the fuzzer's instrumentation: inside
+// it the mutations are blind.
 #include <unistd.h>
 
 #include <cstddef>

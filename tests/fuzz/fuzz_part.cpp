@@ -1,6 +1,6 @@
 // Fuzzing the part reader (docs/farm.md): any file given to build/bin/merge must read as a part
-// or give an InputError, never crash. tinyexr reads from a file, so each input is written to
-// this process's scratch file first.
+// or give an InputError, never crash. The reader opens a file (OpenEXR's two libraries, the
+// header check's and the decoder's), so each input is written to this process's scratch file first.
 #include <unistd.h>
 
 #include <cstddef>

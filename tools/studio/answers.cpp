@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "io/report.h"
+#include "io/shipped_files.h"
 #include "render/metrics.h"
 #include "studio_internal.h"
 
@@ -76,7 +77,8 @@ std::string snapshot_json(const Snapshot& snap, const std::vector<std::string>& 
 std::string pane_json(const PaneView& v, bool is_reference) {
     const PaneState& p = *v.pane;
     const Snapshot* snap = v.snapshot.get();
-    std::string command = "build/bin/" + p.args[0];
+    // The lesson's program beside the studio's (build/bin/ or an install's bin/).
+    std::string command = (program_dir() / p.args[0]).string();
     for (size_t k = 1; k < p.args.size(); ++k) command += " " + p.args[k];
     std::string s = "{\"state\": \"" + v.state + "\"";
     if (!v.failure.empty()) s += ", \"error\": " + json_quote(v.failure);

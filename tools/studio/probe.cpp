@@ -46,23 +46,35 @@ Irradiance direct_irradiance(const Scene& scene, const SurfaceInteraction& si, c
     return {Color(mean), Color(glm::sqrt(glm::max(var, glm::dvec3(0.0))))};
 }
 
-// A light, for the page's choice of a direction for f: a point light's position, an area
-// light's centre (the environment has no position: not offered).
+// A light, for the page's choice of a direction for f: a point or spot light's position, an
+// area light's centre, a directional light's direction (the environment has neither: not
+// offered).
 struct LightPoint {
     std::string what;
     Vec3 position;
+    std::optional<Vec3> towards;  // a directional light: the unit direction towards it
+    // The unit direction from p towards the light.
+    Vec3 direction_from(const Vec3& p) const {
+        return towards ? *towards : glm::normalize(position - p);
+    }
 };
 std::vector<LightPoint> light_points(const Scene& scene) {
     std::vector<LightPoint> points;
     for (const LightRef& light : scene.lights()) {
         switch (light.kind) {
-            case LightKind::Point:
-                points.push_back({"point light", scene.point_lights()[light.index].position});
+            case LightKind::Point: {
+                const PointLight& l = scene.point_lights()[light.index];
+                points.push_back({l.cone ? "spot light" : "point light", l.position, {}});
+                break;
+            }
+            case LightKind::Directional:
+                points.push_back({"directional light", Vec3(0.0f),
+                                  -scene.directional_lights()[light.index].direction});
                 break;
             case LightKind::Area: {
                 const AreaLight& l = scene.area_lights()[light.index];
                 const std::string& name = scene.material(l.material).name;
-                points.push_back({"area light (" + name + ")", l.center});
+                points.push_back({"area light (" + name + ")", l.center, {}});
                 break;
             }
             case LightKind::Environment: break;
@@ -118,11 +130,11 @@ std::string irradiance_json(const Irradiance& E, int samples) {
     return s + ", \"E_samples\": " + std::to_string(samples) + ", \"E_units\": \"W/m^2\"";
 }
 
-// f(wo, wi) towards the light's position (a point light) or centre (an area light); a delta
-// BSDF has no finite value.
+// f(wo, wi) towards the light's position (a point or spot light), centre (an area light) or
+// direction (a directional light); a delta BSDF has no finite value.
 std::string bsdf_json(const LightPoint& light, const SurfaceInteraction& si, const Bsdf& bsdf,
                       const Material& m, const Vec3& n) {
-    const Vec3 wi = glm::normalize(light.position - si.p);
+    const Vec3 wi = light.direction_from(si.p);
     std::string s = ", \"f_light\": " + json_quote(light.what) +
                     ", \"cos_theta_i\": " + json_number(glm::dot(wi, n));
     if (bsdf.is_delta())

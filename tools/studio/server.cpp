@@ -1,5 +1,6 @@
 // studio: the lessons, live, in a browser (docs/studio.md). An HTTP server (cpp-httplib) on
-// 127.0.0.1 that serves one page (tools/studio/page) and the API it polls:
+// 127.0.0.1 that serves one page (tools/studio/page, shipped as share/illumination-lessons/page)
+// and the API it polls:
 //
 //   GET  /api/config                  scenes, lessons and their flags, limits, the bind address
 //   POST /api/start?pane=P&scene=S&lesson=L&--flag=V...   (re)starts pane P; 400 on bad input
@@ -25,6 +26,7 @@
 #include <thread>
 
 #include "io/report.h"
+#include "io/shipped_files.h"
 #include "studio.h"
 
 using namespace lessons;
@@ -192,11 +194,13 @@ struct ServerOptions {
     int port = 8642;
     std::string bind = "127.0.0.1";
     std::vector<std::pair<std::string, std::string>> folders;  // (label, folder) of scenes
-    // The shipped references first, then those scripts/lessons.sh renders for other settings.
-    std::vector<std::string> references = {LESSONS_SOURCE_DIR "/references",
-                                           LESSONS_SOURCE_DIR "/out"};
-    std::string cache = LESSONS_SOURCE_DIR "/out/studio";
-    std::string page = LESSONS_SOURCE_DIR "/tools/studio/page";
+    // The shipped references first (common/io/shipped_files.h: installed or in the build tree),
+    // then those scripts/lessons.sh renders for other settings, relative to the folder the
+    // studio starts in, as a lesson's out/ is (scripts/studio.sh starts it in the repository).
+    std::vector<std::string> references = {(shipped_files_dir() / "references").string(), "out"};
+    std::string cache = "out/studio";
+    // Shipped beside the program (common/io/shipped_files.h): installed or in the build tree.
+    std::string page = (shipped_files_dir() / "page").string();
     Limits limits;
 };
 
@@ -212,7 +216,7 @@ void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& 
         ->capture_default_str();
     app.add_option("--scenes", scene_dirs,
                    "Folders of scene files the page may choose from, each given once (default: "
-                   "the suite's scenes/ and scenes/hard/); no other file can be chosen");
+                   "the scenes/ and scenes/hard/ the suite ships); no other file can be chosen");
     app.add_option("--references", o.references,
                    "Folders of references, <dir>/<scene>/reference.exr, looked for in order "
                    "(repeat the flag): the shipped ones and those scripts/lessons.sh rendered")
@@ -243,7 +247,8 @@ void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& 
 // stderr) for one that is not a folder.
 bool read_scene_folders(std::vector<std::string> scene_dirs, ServerOptions& o) {
     if (scene_dirs.empty())
-        scene_dirs = {LESSONS_SOURCE_DIR "/scenes", LESSONS_SOURCE_DIR "/scenes/hard"};
+        scene_dirs = {(shipped_files_dir() / "scenes").string(),
+                      (shipped_files_dir() / "scenes" / "hard").string()};
     for (const std::string& dir : scene_dirs) {
         std::error_code ec;
         if (!std::filesystem::is_directory(dir, ec)) {
