@@ -3,7 +3,8 @@
 # program finds the shipped ones; README.md, "Installing for a lab", how to use the package.
 #
 #   bin/                              the lessons (01_ray_casting ...) and the tools a user runs
-#   share/illumination-lessons/       scenes/ (with their meshes and maps), page/ (the studio's)
+#   share/illumination-lessons/       scenes/ (with their meshes and maps), page/ (the studio's),
+#                                     references/ (the converged references the studio uses)
 #   share/doc/illumination-lessons/   README.md and docs/ (with its images)
 
 # The lessons, under their own names.
@@ -31,6 +32,8 @@ endforeach()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${LESSONS_INSTALL_SHIPPED}/scenes)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/studio/page/
         DESTINATION ${LESSONS_INSTALL_SHIPPED}/page)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/references/
+        DESTINATION ${LESSONS_INSTALL_SHIPPED}/references)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 
@@ -42,6 +45,7 @@ get_filename_component(build_shipped "${CMAKE_RUNTIME_OUTPUT_DIRECTORY}/${LESSON
 file(MAKE_DIRECTORY ${build_shipped})
 file(CREATE_LINK ${PROJECT_SOURCE_DIR}/scenes ${build_shipped}/scenes SYMBOLIC)
 file(CREATE_LINK ${PROJECT_SOURCE_DIR}/tools/studio/page ${build_shipped}/page SYMBOLIC)
+file(CREATE_LINK ${PROJECT_SOURCE_DIR}/references ${build_shipped}/references SYMBOLIC)
 
 # The Debian package: illumination-lessons_VERSION_ARCH.deb, installing under /usr. Its
 # dependencies are the shared libraries the programs link, found by dpkg-shlibdeps (dpkg-dev).

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The lessons, side by side: on a fresh Debian 12 machine, install what is needed, build, then
 # for the Cornell box with a mirror and a glass sphere, Whitted's scene and Kajiya's:
-#   1. render a converged reference with the estimator that is unbiased for the scene: lesson 5
-#      where lesson 4 says it misses light or finds caustics only by chance (a point light, a
-#      mirror or glass), else lesson 4 (cached in out/ while the scene, the renderer and the
-#      settings are unchanged);
+#   1. take the converged reference, rendered by the estimator that is unbiased for the scene:
+#      lesson 5 where lesson 4 says it misses light or finds caustics only by chance (a point
+#      light, a mirror or glass), else lesson 4. The default page's three are shipped in
+#      references/ with their provenance (scripts/references.sh; the test ShippedReferences
+#      checks them against today's code); other settings render their own, cached in out/ while
+#      the scene, the renderer and the settings are unchanged;
 #   2. run the five lessons at equal time budgets, recording error against time;
 #   3. run lesson 3's five estimators, lesson 4 without next-event estimation and lesson 5's
 #      light tracing alone (all of independent samples), and lesson 4 with its default,
@@ -15,18 +17,21 @@
 #   6. write out/index.html: a static page (no server needed) with the images side by side, a
 #      flip/slider comparison, the error images, the chart, the converged-bias table and a table
 #      of the figures.
-# Usage: scripts/lessons.sh [--quick | --thorough]
-#   default: ~256 px images, 4 s per run, about 11 minutes on 2 cores once the references are
-#   cached (the first run renders them: about 6 minutes more, measured at 407484b); --quick: tiny
-#   images, 0.3 s per run, under a minute; --thorough: 512 px, 30 s per run.
+# Usage: scripts/lessons.sh [--quick | --thorough | --references]
+#   default: ~256 px images, 4 s per run, the shipped references: about 4 minutes on 2 cores
+#   (236 s, first run included, measured with the cores shared: load average 10);
+#   --quick: tiny images, 0.3 s per run, under a minute; --thorough: 512 px, 30 s per run, and
+#   its own references (8192 spp, rendered once and cached in out/ with their provenance);
+#   --references: the default page, re-rendering the shipped references in references/ first
+#   (with new provenance files; about 6 minutes more on 2 idle cores).
 set -euo pipefail
 
 MODE="${1:-default}"
 case "$MODE" in
-    default) SIZE=256; BUDGET=4; REFERENCE_SPP=1024 ;;
+    default | --references) SIZE=256; BUDGET=4; REFERENCE_SPP=1024 ;;
     --quick) SIZE=64; BUDGET=0.3; REFERENCE_SPP=256 ;;
     --thorough) SIZE=512; BUDGET=30; REFERENCE_SPP=8192 ;;
-    *) echo "usage: scripts/lessons.sh [--quick | --thorough]" >&2; exit 2 ;;
+    *) echo "usage: scripts/lessons.sh [--quick | --thorough | --references]" >&2; exit 2 ;;
 esac
 
 if [ "${LESSONS_SKIP_SETUP:-0}" = 1 ]; then
@@ -41,11 +46,8 @@ OUT="${LESSONS_OUT:-$ROOT/out}"
 mkdir -p "$OUT"
 cd "$ROOT"
 BIN="$BUILD/bin"
-
-# A field of one of our JSON reports (flat, one field per line).
-field() { sed -n "s/^  \"$2\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$1"; }
-# A list field of a report, as its strings joined by "; ".
-list_field() { sed -n "s/^  \"$2\": \[\(.*\)\],\{0,1\}$/\1/p" "$1" | sed 's/", "/; /g; s/^"//; s/"$//'; }
+# field, list_field, reference_probe, shipped_reference_fits, render_reference
+source "$ROOT/scripts/references.sh"
 # A field of compare's one-line JSON.
 json_number() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1"; }
 # A run's converged error from its compare line: bias^2 with its standard error, or "0 within
@@ -99,33 +101,40 @@ for entry in "${SCENES[@]}"; do
     mkdir -p "$dir"
     size="--width $width --height $height"
 
-    # 1. The reference, from the estimator that is unbiased for this scene: lesson 4 says in its
-    #    report whether it is biased here (point-light caustics) and whether it finds lamps'
-    #    caustics only by chance; then lesson 5 renders the reference.
-    "$BIN/04_rendering_equation" --scene "scenes/$scene.toml" --width 8 --height 8 --spp 1 \
-        --out "$dir/probe" --report "$dir/probe.json" --quiet
-    # (its notes point to lesson 5 wherever lesson 5 finds what it finds only by chance)
-    if [ "$(field "$dir/probe.json" biased)" = true ] || grep -q "lesson 5" "$dir/probe.json"; then
-        ref_lesson=05_bidirectional
-        ref_why="lesson 5, bidirectional path tracing: lesson 4 $( [ "$(field "$dir/probe.json" biased)" = true ] && echo "misses light here ($(list_field "$dir/probe.json" bias))" || echo "finds this scene's caustics only by chance")"
-    else
-        ref_lesson=04_rendering_equation
-        ref_why="lesson 4, path tracing: unbiased here (no point light, mirror or glass)"
+    # 1. The reference, from the estimator that is unbiased for this scene (reference_probe:
+    #    lesson 4's report says whether it is biased here or finds caustics only by chance).
+    reference_probe "$scene" "$dir"
+    ref_lesson="$REF_LESSON"
+    ref_why="$REF_WHY"
+    shipped="$ROOT/references/$scene"
+    [ "$MODE" = --references ] &&
+        render_reference "$scene" "$ref_lesson" "$width" "$height" "$REFERENCE_SPP" "$shipped"
+    reference_dir=""
+    if { [ "$MODE" = default ] || [ "$MODE" = --references ]; }; then
+        if shipped_reference_fits "$shipped/reference.toml" "$ref_lesson" "$width" "$height" \
+            "$REFERENCE_SPP" "$SCENE_FILES"; then
+            reference_dir="$shipped"
+            ref_from="shipped in references/$scene, rendered at commit $(toml_field "$shipped/reference.toml" commit | cut -c1-7) (its provenance: reference.toml there)"
+            echo "lessons: $scene: the shipped reference ($REFERENCE_SPP spp, $ref_lesson, references/$scene)"
+        else
+            echo "lessons: $scene: the shipped reference does not fit (scene files, size or lesson changed): rendering one"
+        fi
     fi
-    key="$(cat "scenes/$scene.toml" "$BIN/$ref_lesson" | sha256sum | cut -c1-16)-$ref_lesson-$width-$height-$REFERENCE_SPP"
-    reference="$dir/reference.exr"
-    if [ -f "$reference" ] && [ -f "$dir/reference_variance.exr" ] && [ "$(cat "$dir/reference.key" 2>/dev/null)" = "$key" ]; then
-        echo "lessons: $scene: reusing the reference ($REFERENCE_SPP spp, $ref_lesson)"
-    else
-        echo "lessons: $scene: rendering the reference ($REFERENCE_SPP spp, ${width}x${height}, $ref_lesson)"
-        # Its progress every 10%, with the time left (the lesson's own progress line), and any
-        # error it prints.
-        "$BIN/$ref_lesson" --scene "scenes/$scene.toml" $size --spp "$REFERENCE_SPP" \
-            --seed 1000003 --sampler independent --out "$dir/reference" --report "$dir/reference.json" \
-            --variance "$dir/reference_variance" 2>&1 |
-            sed -u -n -e "s/^render: /lessons: $scene: reference: /p" -e '/error/p'
-        echo "$key" > "$dir/reference.key"
+    if [ -z "$reference_dir" ]; then
+        reference_dir="$dir"
+        ref_from="rendered by scripts/lessons.sh $MODE (its provenance: $scene/reference.toml beside this page)"
+        key="$(cat "scenes/$scene.toml" "$BIN/$ref_lesson" | sha256sum | cut -c1-16)-$ref_lesson-$width-$height-$REFERENCE_SPP"
+        if [ -f "$dir/reference.exr" ] && [ -f "$dir/reference_variance.exr" ] && [ "$(cat "$dir/reference.key" 2>/dev/null)" = "$key" ]; then
+            echo "lessons: $scene: reusing the reference ($REFERENCE_SPP spp, $ref_lesson, out/$scene)"
+        else
+            render_reference "$scene" "$ref_lesson" "$width" "$height" "$REFERENCE_SPP" "$dir"
+            echo "$key" > "$dir/reference.key"
+        fi
     fi
+    reference="$reference_dir/reference.exr"
+    reference_variance="$reference_dir/reference_variance.exr"
+    # The page shows it beside the runs.
+    [ "$reference_dir" = "$dir" ] || cp "$reference_dir/reference.png" "$dir/reference.png"
 
     # 2-3. Every run with the same time budget, recording error against time.
     plot_lines=""
@@ -141,7 +150,7 @@ for entry in "${SCENES[@]}"; do
             --report "$dir/$name.json" --variance "$dir/${name}_variance" --quiet
         "$BIN/compare" "$dir/$name.exr" "$reference" --out "$dir/$name" \
             --variance "$dir/${name}_variance.exr" \
-            --reference-variance "$dir/reference_variance.exr" > "$dir/$name.compare.json" 2> /dev/null
+            --reference-variance "$reference_variance" > "$dir/$name.compare.json" 2> /dev/null
         bias2="$(converged_error "$dir/$name.compare.json")"
         # A stratified run's per-pixel variance assumes independent samples: it overstates the
         # noise, so MSE minus it says nothing about the bias.
@@ -192,7 +201,7 @@ EOF
 <h2>$title</h2>
 <h3>The ${#LESSONS[@]} lessons, ${BUDGET} s each</h3>
 <div class=\"row\">$lessons_row<figure><img src=\"$scene/reference.png\" alt=\"reference\"><figcaption>reference ($REFERENCE_SPP spp)</figcaption></figure></div>
-<p>The reference: $ref_why; $REFERENCE_SPP samples per pixel, another seed than the runs.</p>
+<p>The reference: $ref_why; $REFERENCE_SPP samples per pixel, another seed than the runs; $ref_from.</p>
 <h3>Compare any two</h3>
 <div class=\"compare\" data-scene=\"$scene\">
 <select class=\"left\">$options</select> <select class=\"right\">$options</select>

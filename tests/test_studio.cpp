@@ -80,7 +80,7 @@ double json_field(const std::string& json, const std::string& key, size_t index 
 
 TEST(Studio, ScenesAreTheTomlFilesOfTheGivenFoldersOnly) {
     Studio studio({{"scenes", kSource + "/scenes"}, {"hard", kSource + "/scenes/hard"}},
-                  scratch("refs"), scratch("cache"), small_limits(), 1);
+                  {scratch("refs")}, scratch("cache"), small_limits(), 1);
     bool box = false, tiny = false;
     for (const SceneEntry& s : studio.scenes()) {
         box |= s.id == "scenes/cornell_box";
@@ -99,7 +99,7 @@ TEST(Studio, ScenesAreTheTomlFilesOfTheGivenFoldersOnly) {
 }
 
 TEST(Studio, RequestsAreValidatedAsTheCommandLineIs) {
-    Studio studio({{"scenes", kSource + "/scenes"}}, scratch("refs"), scratch("cache"),
+    Studio studio({{"scenes", kSource + "/scenes"}}, {scratch("refs")}, scratch("cache"),
                   small_limits(), 1);
     const Params ok{{"scene", "scenes/cornell_box"},
                     {"lesson", "03_reflection_equation"},
@@ -161,7 +161,7 @@ TEST(Studio, RequestsAreValidatedAsTheCommandLineIs) {
 }
 
 TEST(Studio, LessonsOfferTheirOwnFlags) {
-    Studio studio({{"scenes", kSource + "/scenes"}}, scratch("refs"), scratch("cache"),
+    Studio studio({{"scenes", kSource + "/scenes"}}, {scratch("refs")}, scratch("cache"),
                   small_limits(), 1);
     bool estimator = false, plain = false;
     for (const LessonInfo& l : studio.lessons())
@@ -181,7 +181,7 @@ TEST(Studio, LessonsOfferTheirOwnFlags) {
 // The studio's image after N samples is the CLI's --spp N image, bit for bit (EXR bytes).
 TEST(Studio, DownloadEqualsTheCommandLinesImage) {
     const std::string out = scratch("download");
-    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, small_limits(), 1);
+    Studio studio({{"scenes", kSource + "/scenes"}}, {out}, out, small_limits(), 1);
     const Params p{{"scene", "scenes/cornell_spheres"},
                    {"lesson", "04_rendering_equation"},
                    {"--width", "24"},
@@ -213,7 +213,7 @@ TEST(Studio, DownloadEqualsTheCommandLinesImage) {
 // the probe's f of the diffuse wall is rho / pi.
 TEST(Studio, ProbeGivesTheFurnacesIrradianceAndBrdf) {
     const std::string out = scratch("probe");
-    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, small_limits(), 1);
+    Studio studio({{"scenes", kSource + "/scenes"}}, {out}, out, small_limits(), 1);
     studio.start(0, {{"scene", "scenes/furnace"},
                      {"lesson", "04_rendering_equation"},
                      {"--width", "16"},
@@ -236,12 +236,56 @@ TEST(Studio, ProbeGivesTheFurnacesIrradianceAndBrdf) {
     EXPECT_THROW(studio.probe_json(0, 16, 3, 0, 16), RequestError);
 }
 
+// A scene with a shipped reference (references/SCENE/, with its provenance) has its chart at
+// once: the pane takes that reference when it starts and no background render begins. A copy of
+// it whose provenance names other scene files (the scene was edited since) is not taken, and the
+// studio renders its own in the background.
+TEST(Studio, AShippedReferenceStartsTheChartAtOnce) {
+    Limits limits = small_limits();
+    limits.max_side = 512;
+    const Params p{{"scene", "scenes/cornell_spheres"},
+                   {"lesson", "01_ray_casting"},
+                   {"--width", "256"},
+                   {"--height", "256"},
+                   {"--spp", "1"}};
+    {
+        Studio studio({{"scenes", kSource + "/scenes"}}, {kSource + "/references"},
+                      scratch("shipped_cache"), limits, 1);
+        const SceneEntry* entry = nullptr;
+        for (const SceneEntry& e : studio.scenes())
+            if (e.id == "scenes/cornell_spheres") entry = &e;
+        ASSERT_NE(entry, nullptr);
+        EXPECT_EQ(entry->reference_width, 256);  // the page sets this size for the scene
+        EXPECT_EQ(entry->reference_height, 256);
+        studio.start(0, p);
+        const std::string s = studio.status_json();
+        EXPECT_NE(s.find("references/cornell_spheres/reference.exr (05_bidirectional, 1024 spp"),
+                  std::string::npos)
+            << s;
+        EXPECT_NE(s.find("], \"reference\": null, \"live_renders\""), std::string::npos)
+            << "no background reference render: " << s;
+    }
+    const std::string stale = scratch("stale_refs");
+    std::filesystem::copy(kSource + "/references/cornell_spheres", stale + "/cornell_spheres");
+    std::string text = file_bytes(kSource + "/references/cornell_spheres/reference.toml");
+    const size_t at = text.find("scene_files = \"");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at + 15, 16, "0123456789abcdef");
+    std::ofstream(stale + "/cornell_spheres/reference.toml") << text;
+    Studio studio({{"scenes", kSource + "/scenes"}}, {stale}, scratch("stale_cache"), limits, 1);
+    studio.start(0, p);
+    const std::string s = studio.status_json();
+    EXPECT_EQ(s.find("stale_refs/cornell_spheres/reference.exr"), std::string::npos) << s;
+    EXPECT_EQ(s.find("], \"reference\": null, \"live_renders\""), std::string::npos)
+        << "a background reference render: " << s;
+}
+
 // Restarting a pane replaces its render: only one runs per pane, whatever the number of starts.
 TEST(Studio, RestartsDoNotPileUp) {
     const std::string out = scratch("restarts");
     Limits limits = small_limits();
     limits.max_spp = 1 << 16;
-    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, limits, 2);
+    Studio studio({{"scenes", kSource + "/scenes"}}, {out}, out, limits, 2);
     for (int k = 0; k < 20; ++k)
         studio.start(k % 2, {{"scene", "scenes/cornell_box"},
                              {"lesson", "04_rendering_equation"},
@@ -259,7 +303,7 @@ TEST(Studio, RestartsDoNotPileUp) {
 // finish won, and a page's first start could replace the teacher's next choice.)
 TEST(Studio, TheLastStartMadeWinsNotTheLastToFinishLoading) {
     const std::string out = scratch("order");
-    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, small_limits(), 2);
+    Studio studio({{"scenes", kSource + "/scenes"}}, {out}, out, small_limits(), 2);
     const Params earlier = {{"scene", "scenes/cornell_spheres"},
                             {"lesson", "02_whitted"},
                             {"--width", "32"},
@@ -294,7 +338,7 @@ TEST(Studio, RendersBeyondTheMemoryBudgetAreRefused) {
     const std::string out = scratch("budget");
     Limits limits = small_limits();
     limits.memory_mb = 0.5;
-    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, limits, 1);
+    Studio studio({{"scenes", kSource + "/scenes"}}, {out}, out, limits, 1);
     try {
         studio.start(0, {{"scene", "scenes/cornell_box"}, {"lesson", "04_rendering_equation"},
                          {"--width", "128"}, {"--height", "128"}, {"--bounces", "8"}});
@@ -314,7 +358,7 @@ TEST(Studio, TheBackgroundReferenceFollowsThePanes) {
     write_exr(Image(16, 16), out + "/cornell_box/reference.exr");
     Limits limits = small_limits();
     limits.reference_spp = 1 << 14;  // long enough to be seen rendering
-    Studio studio({{"scenes", kSource + "/scenes"}}, out, out, limits, 1);
+    Studio studio({{"scenes", kSource + "/scenes"}}, {out}, out, limits, 1);
     const Params furnace{{"scene", "scenes/furnace"}, {"lesson", "01_ray_casting"},
                          {"--width", "16"}, {"--height", "16"}, {"--spp", "4"}};
     Params box = furnace;
@@ -327,7 +371,7 @@ TEST(Studio, TheBackgroundReferenceFollowsThePanes) {
     EXPECT_NE(reference().find("\"scene\": \"scenes/furnace\""), std::string::npos);
     studio.start(0, box);  // has lessons.sh's reference: the furnace's is not needed any more
     EXPECT_NE(reference().find("\"state\": \"stopped\""), std::string::npos) << reference();
-    EXPECT_NE(studio.status_json().find("scripts/lessons.sh:"), std::string::npos);
+    EXPECT_NE(studio.status_json().find(out + "/cornell_box/reference.exr"), std::string::npos);
     studio.start(0, furnace);
     EXPECT_NE(reference().find("\"state\": \"rendering\""), std::string::npos) << reference();
     Params grey = furnace;

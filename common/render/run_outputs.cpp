@@ -93,6 +93,10 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
     Report report;
     report.set("chapter", lesson.name);
     report.set("scene", in.scene.source);
+    // The hash of the scene file and every file it names: a shipped reference's provenance
+    // records it, so a reference rendered from other scene files is not taken (references/).
+    report.set("scene_files",
+               in.scene_hash.empty() ? scene_files_hash(in.scene, o.limits) : in.scene_hash);
     report.set("width", in.scene.width);
     report.set("height", in.scene.height);
     report.set("spp", run.spp_taken);

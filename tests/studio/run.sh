@@ -22,7 +22,7 @@ CHROMIUM="$(command -v chromium || command -v chromium-browser || true)"
     --spp 64 --seed 1000003 --sampler independent --out "$WORK/refs/cornell_box/reference" \
     --variance "$WORK/refs/cornell_box/reference_variance" --quiet
 
-"$BUILD/bin/studio" --port 0 --references "$WORK/refs" --cache "$WORK/cache" --max-spp 1000000 \
+"$BUILD/bin/studio" --port 0 --references "$WORK/refs" --references "$ROOT/references" --cache "$WORK/cache" --max-spp 1000000 \
     --threads 2 > "$WORK/studio.out" 2> "$WORK/studio.err" &
 PID=$!
 trap 'kill -9 $PID 2> /dev/null || true' EXIT

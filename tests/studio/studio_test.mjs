@@ -64,6 +64,19 @@ try {
   check(config.loopback_only && config.bind === '127.0.0.1', 'the studio binds to 127.0.0.1 by default');
   check(config.scenes.some((s) => s.id === 'hard/cornell_tiny'), 'the scene list has scenes/ and scenes/hard/');
 
+  // ---- the page's default scene has a shipped reference: its chart starts at once ----
+  let s = await waitFor('the default panes measure against the shipped reference', (x) =>
+    x.panes.every((p) => p.params && p.params.scene === 'scenes/cornell_spheres' && p.reference &&
+      p.reference.includes('references/cornell_spheres/reference.exr') && (p.chart || []).length > 0), 30);
+  check(s.reference === null, 'no background reference render for a scene with a shipped one');
+  await set('#scene', 'scenes/whitted_1979');
+  const size = await page.evaluate(() => [document.querySelector('#width').value, document.querySelector('#height').value]);
+  check(size[0] === '341' && size[1] === '256', `choosing Whitted's scene takes its shipped reference's size (${size})`);
+  s = await waitFor("Whitted's scene measured against its shipped reference", (x) =>
+    x.panes.every((p) => p.params && p.params.scene === 'scenes/whitted_1979' && p.reference &&
+      p.reference.includes('references/whitted_1979/reference.exr') && (p.chart || []).length > 0), 30);
+  check(s.reference === null, "no background reference render for Whitted's scene either");
+
   // ---- a scene and two lessons: frames change as samples accumulate ----
   await set('#width', '48');
   await set('#height', '36');
@@ -71,7 +84,7 @@ try {
   await set('#scene', 'scenes/cornell_box');
   await set('#pane0 .lesson', '04_rendering_equation');
   await set('#pane1 .lesson', '03_reflection_equation');
-  let s = await waitFor('both panes render the Cornell box at 48x36', (x) =>
+  s = await waitFor('both panes render the Cornell box at 48x36', (x) =>
     x.panes.every((p) => p.params && p.params.scene === 'scenes/cornell_box' && p.params['--width'] === '48' && p.spp >= 2) &&
     x.panes[0].lesson === '04_rendering_equation' && x.panes[1].lesson === '03_reflection_equation');
   await page.waitForFunction((g) => document.querySelector('#pane0 .image').dataset.generation === String(g), s.panes[0].generation);

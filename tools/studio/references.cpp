@@ -1,10 +1,14 @@
-// The references the panes' error charts measure against: lessons.sh's, found on disk; the
-// studio's own, cached by what the scene was made of; or one rendered in the background (lesson
-// 5 at Limits::reference_spp), which every pane of that scene, size and albedo takes when done.
+// The references the panes' error charts measure against: the shipped ones (references/) and
+// lessons.sh's (out/), found on disk; the studio's own, cached by what the scene was made of; or
+// one rendered in the background (lesson 5 at Limits::reference_spp), which every pane of that
+// scene, size and albedo takes when done.
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <cstdio>
 
 #include "io/input_file.h"
+#include "render/part.h"
 #include "studio_internal.h"
 
 namespace lessons::studio {
@@ -39,18 +43,39 @@ fs::file_time_type newest_input(const std::vector<std::string>& inputs) {
     return newest;
 }
 
-std::optional<FoundReference> read_reference_file(const fs::path& exr, const fs::path& variance,
-                                                  int width, int height,
-                                                  const std::vector<std::string>& inputs,
-                                                  const std::string& source) {
+// What a reference's provenance file (reference.toml beside it: scripts/references.sh) says.
+struct Provenance {
+    std::string scene_files, lesson, commit;
+    int width = 0, height = 0, spp = 0;
+};
+std::optional<Provenance> read_provenance(const fs::path& file) {
     std::error_code ec;
-    if (!fs::is_regular_file(exr, ec)) return std::nullopt;
-    // Older than the scene file or a file it names: rendered from another version of them.
-    if (fs::last_write_time(exr, ec) < newest_input(inputs)) return std::nullopt;
+    if (!fs::is_regular_file(file, ec)) return std::nullopt;
+    try {
+        const toml::table t = toml::parse_file(file.string());
+        Provenance p;
+        p.scene_files = t["scene_files"].value_or(std::string());
+        p.lesson = t["lesson"].value_or(std::string());
+        p.commit = t["commit"].value_or(std::string());
+        p.width = t["width"].value_or(0);
+        p.height = t["height"].value_or(0);
+        p.spp = t["spp"].value_or(0);
+        return p;
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+// The reference image and its noise (the mean of its variance image, when there is one), if it
+// is of the pane's size.
+std::optional<FoundReference> read_images(const fs::path& exr, const fs::path& variance,
+                                          const PaneState& pane, const std::string& source) {
+    const int width = pane.inputs.scene.width, height = pane.inputs.scene.height;
+    std::error_code ec;
     try {
         auto image = std::make_shared<Image>(read_exr(exr.string()));
         if (image->width != width || image->height != height) return std::nullopt;
-        FoundReference found{image, source + " " + exr.string(), 0.0};
+        FoundReference found{image, source, 0.0};
         if (fs::is_regular_file(variance, ec)) {
             const Image v = read_exr(variance.string());
             if (v.width == width && v.height == height) found.noise = mean_variance(v);
@@ -59,6 +84,44 @@ std::optional<FoundReference> read_reference_file(const fs::path& exr, const fs:
     } catch (const std::exception&) {
         return std::nullopt;
     }
+}
+
+// The reference in `dir` (reference.exr, reference_variance.exr) if it is of the pane's size and
+// scene: by its provenance where it has one (reference.toml: the hash of the files the scene was
+// made of, against the files the pane loaded; file times mean nothing in a fresh clone), else by
+// its time (not older than any of those files).
+std::optional<FoundReference> read_reference_file(const fs::path& dir, const PaneState& pane) {
+    const fs::path exr = dir / "reference.exr";
+    std::error_code ec;
+    if (!fs::is_regular_file(exr, ec)) return std::nullopt;
+    std::string source = exr.string();
+    if (const std::optional<Provenance> p = read_provenance(dir / "reference.toml")) {
+        if (p->width != pane.inputs.scene.width || p->height != pane.inputs.scene.height)
+            return std::nullopt;
+        try {
+            if (scene_files_hash(pane.inputs.scene, pane.options.limits) != p->scene_files)
+                return std::nullopt;
+        } catch (const std::exception&) {
+            return std::nullopt;
+        }
+        source += " (" + p->lesson + ", " + std::to_string(p->spp) + " spp, rendered at commit " +
+                  p->commit.substr(0, 7) + "; its provenance: reference.toml beside it)";
+    } else if (fs::last_write_time(exr, ec) < newest_input(pane.inputs.scene.input_files)) {
+        return std::nullopt;  // rendered from another version of the scene's files
+    }
+    return read_images(exr, dir / "reference_variance.exr", pane, source);
+}
+
+// The studio's own reference, cached under `stem` (cache_stem), if not older than the scene's
+// files.
+std::optional<FoundReference> read_cached_reference(const std::string& stem,
+                                                    const PaneState& pane) {
+    const fs::path exr = stem + ".exr";
+    std::error_code ec;
+    if (!fs::is_regular_file(exr, ec) ||
+        fs::last_write_time(exr, ec) < newest_input(pane.inputs.scene.input_files))
+        return std::nullopt;
+    return read_images(exr, stem + "_variance.exr", pane, "the studio's cache: " + exr.string());
 }
 
 // The reference render's command line: the lesson's, with another seed than any pane's default.
@@ -108,26 +171,29 @@ std::string cache_stem(const std::string& cache, const SceneEntry& scene,
     return (fs::path(cache) / (name + buf)).string();
 }
 
-std::optional<FoundReference> find_reference(const std::string& references,
+std::pair<int, int> provenance_size(const std::vector<std::string>& references,
+                                    const std::string& scene_path) {
+    for (const std::string& dir : references)
+        if (const std::optional<Provenance> p =
+                read_provenance(fs::path(dir) / fs::path(scene_path).stem() / "reference.toml"))
+            return {p->width, p->height};
+    return {0, 0};
+}
+
+std::optional<FoundReference> find_reference(const std::vector<std::string>& references,
                                              const std::string& cache, const SceneEntry& scene,
                                              const PaneState& pane, int reference_spp) {
     const int w = pane.inputs.scene.width, h = pane.inputs.scene.height;
     const std::vector<std::string>& inputs = pane.inputs.scene.input_files;
-    // lessons.sh's for this scene and size, else the studio's own. (lessons.sh renders the
-    // scenes as they are: no reference of theirs has --albedo.)
+    // A shipped or lessons.sh's reference for this scene and size, else the studio's own. (They
+    // are of the scenes as they are: none has --albedo.)
     const float albedo = pane.options.albedo;
-    std::optional<FoundReference> found;
-    const fs::path lessons_dir = fs::path(references) / fs::path(scene.path).stem();
     if (albedo < 0.0f)
-        found = read_reference_file(lessons_dir / "reference.exr",
-                                    lessons_dir / "reference_variance.exr", w, h, inputs,
-                                    "scripts/lessons.sh:");
-    if (!found) {
-        const std::string stem = cache_stem(cache, scene, inputs, w, h, albedo, reference_spp);
-        found = read_reference_file(stem + ".exr", stem + "_variance.exr", w, h, inputs,
-                                    "the studio's cache:");
-    }
-    return found;
+        for (const std::string& dir : references)
+            if (auto found = read_reference_file(fs::path(dir) / fs::path(scene.path).stem(), pane))
+                return found;
+    const std::string stem = cache_stem(cache, scene, inputs, w, h, albedo, reference_spp);
+    return read_cached_reference(stem, pane);
 }
 
 bool same_image(const PaneState& a, const PaneState& b) {

@@ -88,7 +88,11 @@ std::string config_json(const Studio& studio, const std::string& bind, int port)
     for (size_t i = 0; i < studio.scenes().size(); ++i) {
         const SceneEntry& e = studio.scenes()[i];
         s += std::string(i ? ", " : "") + "{\"id\": " + json_quote(e.id) +
-             ", \"description\": " + json_quote(e.description) + "}";
+             ", \"description\": " + json_quote(e.description);
+        if (e.reference_width > 0)
+            s += ", \"reference_size\": [" + std::to_string(e.reference_width) + ", " +
+                 std::to_string(e.reference_height) + "]";
+        s += "}";
     }
     s += "], \"lessons\": [";
     for (size_t i = 0; i < studio.lessons().size(); ++i) {
@@ -190,9 +194,10 @@ struct ServerOptions {
     int port = 8642;
     std::string bind = "127.0.0.1";
     std::vector<std::pair<std::string, std::string>> folders;  // (label, folder) of scenes
-    // Relative to the folder the studio starts in, as a lesson's out/ is (scripts/studio.sh
-    // starts it in the repository, where scripts/lessons.sh writes out/).
-    std::string references = "out";
+    // The shipped references first (common/io/shipped_files.h: installed or in the build tree),
+    // then those scripts/lessons.sh renders for other settings, relative to the folder the
+    // studio starts in, as a lesson's out/ is (scripts/studio.sh starts it in the repository).
+    std::vector<std::string> references = {(shipped_files_dir() / "references").string(), "out"};
     std::string cache = "out/studio";
     // Shipped beside the program (common/io/shipped_files.h): installed or in the build tree.
     std::string page = (shipped_files_dir() / "page").string();
@@ -213,7 +218,8 @@ void declare_options(CLI::App& app, ServerOptions& o, std::vector<std::string>& 
                    "Folders of scene files the page may choose from, each given once (default: "
                    "the scenes/ and scenes/hard/ the suite ships); no other file can be chosen");
     app.add_option("--references", o.references,
-                   "Where scripts/lessons.sh wrote its references (<dir>/<scene>/reference.exr)")
+                   "Folders of references, <dir>/<scene>/reference.exr, looked for in order "
+                   "(repeat the flag): the shipped ones and those scripts/lessons.sh rendered")
         ->capture_default_str();
     app.add_option("--cache", o.cache, "Where the studio keeps the references it renders")
         ->capture_default_str();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <tuple>
 
 #include "io/input_error.h"
 #include "studio_internal.h"
@@ -26,16 +27,19 @@ std::string scene_description(const std::string& path) {
 
 }  // namespace
 
-Studio::Studio(std::vector<std::pair<std::string, std::string>> folders, std::string references,
-               std::string cache, Limits limits, int panes)
+Studio::Studio(std::vector<std::pair<std::string, std::string>> folders,
+               std::vector<std::string> references, std::string cache, Limits limits, int panes)
     : references_(std::move(references)), cache_(std::move(cache)), limits_(limits) {
     for (const auto& [label, dir] : folders) {
         std::vector<SceneEntry> found;
         std::error_code ec;
         for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
             if (e.path().extension() != ".toml" || !e.is_regular_file(ec)) continue;
-            found.push_back({label + "/" + e.path().stem().string(), e.path().string(),
-                             scene_description(e.path().string())});
+            SceneEntry entry{label + "/" + e.path().stem().string(), e.path().string(),
+                             scene_description(e.path().string())};
+            std::tie(entry.reference_width, entry.reference_height) =
+                provenance_size(references_, entry.path);
+            found.push_back(entry);
         }
         std::sort(found.begin(), found.end(),
                   [](const SceneEntry& a, const SceneEntry& b) { return a.id < b.id; });

@@ -48,6 +48,9 @@ struct SceneEntry {
     std::string id;    // the name the page uses: its folder's label, '/', the file's stem
     std::string path;  // the file
     std::string description;
+    // The size of its reference with a provenance file (references.cpp), as the file says:
+    // choosing the scene on the page sets this size, so the chart starts at once. 0: none.
+    int reference_width = 0, reference_height = 0;
 };
 
 using Params = std::map<std::string, std::string>;
@@ -86,10 +89,11 @@ struct PaneState;
 class Studio {
 public:
     // folders: (label, directory) pairs; scenes are the .toml files directly inside each.
-    // references: lessons.sh's output folder (out/), where cached references are looked for;
-    // cache: where the studio keeps the references it renders itself.
-    Studio(std::vector<std::pair<std::string, std::string>> folders, std::string references,
-           std::string cache, Limits limits, int panes = 2);
+    // references: folders of references, <dir>/<scene>/reference.exr, looked for in order: the
+    // shipped ones (references/) and lessons.sh's (out/); cache: where the studio keeps the
+    // references it renders itself.
+    Studio(std::vector<std::pair<std::string, std::string>> folders,
+           std::vector<std::string> references, std::string cache, Limits limits, int panes = 2);
     ~Studio();
     Studio(const Studio&) = delete;
     Studio& operator=(const Studio&) = delete;
@@ -162,7 +166,8 @@ private:
 
     std::vector<SceneEntry> scenes_;
     std::vector<LessonInfo> lessons_;
-    std::string references_, cache_;
+    std::vector<std::string> references_;
+    std::string cache_;
     Limits limits_;
 
     mutable std::mutex mutex_;

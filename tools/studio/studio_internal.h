@@ -74,17 +74,22 @@ void make_films(PaneState& state, float clamp, int target, int threads);
 
 // --- References (references.cpp) ---
 
-// A reference found on disk: lessons.sh's (OUT/<scene>/reference.exr) or the studio's cache.
+// A reference found on disk: a shipped one (references/<scene>/reference.exr), lessons.sh's
+// (out/<scene>/reference.exr) or the studio's cache.
 struct FoundReference {
     std::shared_ptr<const Image> image;
     std::string source;
     double noise = 0.0;
 };
-// The reference for a pane's render, if there is one on disk: lessons.sh's under `references`,
-// else the studio's own under `cache` (rendered at `reference_spp`).
-std::optional<FoundReference> find_reference(const std::string& references,
+// The reference for a pane's render, if there is one on disk: the first of the `references`
+// folders that has one for its scene and size (<dir>/<scene>/reference.exr), else the studio's
+// own under `cache` (rendered at `reference_spp`).
+std::optional<FoundReference> find_reference(const std::vector<std::string>& references,
                                              const std::string& cache, const SceneEntry& scene,
                                              const PaneState& pane, int reference_spp);
+// The width and height a reference's provenance (reference.toml) records; 0, 0 without one.
+std::pair<int, int> provenance_size(const std::vector<std::string>& references,
+                                    const std::string& scene_path);
 // Where a reference the studio renders is cached (without ".exr").
 std::string cache_stem(const std::string& cache, const SceneEntry& scene,
                        const std::vector<std::string>& inputs, int width, int height, float albedo,

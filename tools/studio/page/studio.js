@@ -392,6 +392,11 @@ async function init() {
     pane.img.addEventListener('click', (e) => probe(i, e));
     pane.exr.download = ''; pane.png.download = '';
   }
+  // A scene with a shipped reference takes its size, so that its chart starts at once.
+  $('scene').addEventListener('change', () => {
+    const s = c.scenes.find((x) => x.id === $('scene').value);
+    if (s && s.reference_size) [$('width').value, $('height').value] = s.reference_size;
+  });
   for (const id of ['scene', 'width', 'height', 'seed', 'spp', 'sampler']) $(id).addEventListener('change', () => { describe(); restartAll(); });
   // A probed pixel belongs to its scene and size.
   for (const id of ['scene', 'width', 'height']) $(id).addEventListener('change', () => { studio.lastProbe = null; studio.probe = null; $('probe').textContent = 'No pixel chosen.'; });
