@@ -20,6 +20,7 @@
 # ratio's standard error, pooled over the blocks, is above 0.5% (2% would then be under 4
 # sigma), the mean's above 0.125%, or the farthest block's own (a rough, one-degree-of-freedom
 # figure) above 1%. Usage: tests/blender/cycles_agreement.sh BIN_DIR [SCENE WIDTH HEIGHT REF_SPP]
+# (SCENE absolute, or relative to the repository's root).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BIN="$(cd "$1" && pwd)"; shift
@@ -38,8 +39,9 @@ failed=0
 for c in "${CASES[@]}"; do
     read -r scene width height ref_spp <<< "$c"
     name="$(basename "$scene" .toml)"
+    case $scene in /*) path="$scene" ;; *) path="$ROOT/$scene" ;; esac  # relative to the root
     if ! REF_SPP="$ref_spp" LESSONS_BIN="$BIN" "$ROOT/scripts/cycles_compare.sh" --lesson 4 \
-        --width "$width" --height "$height" --dir "$WORK/$name" "$ROOT/$scene" 4 > "$WORK/$name.log" 2>&1; then
+        --width "$width" --height "$height" --dir "$WORK/$name" "$path" 4 > "$WORK/$name.log" 2>&1; then
         echo "FAIL: $scene: scripts/cycles_compare.sh failed:"; tail -n 20 "$WORK/$name.log"; failed=1; continue
     fi
     python3 - "$scene" "$WORK/$name/references.json" <<'PY' || failed=1
