@@ -114,73 +114,78 @@ std::vector<Imf::Header> headers_as_the_decoder_reads(const std::string& path, i
 
 }  // namespace
 
-ExrLayout check_exr_header(const std::string& path) {
-    const auto fail = [&](const char* field, const std::string& message) {
-        throw InputError(path, 0, field, message);
-    };
-    std::error_code error;
-    const auto file_bytes = static_cast<int64_t>(std::filesystem::file_size(path, error));
-    if (error) fail("", "cannot read EXR: " + error.message());
+namespace {
 
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = keep_core_message;
-    init.max_image_width = init.max_image_height = static_cast<int>(kMaxSide);
-    init.max_tile_width = init.max_tile_height = static_cast<int>(kMaxSide);
+// One file's headers as OpenEXRCore reads them, and the refusals, each naming the file and the
+// attribute: check_exr_header's steps below share it.
+struct HeaderCheck {
+    const std::string& path;
     CoreContext core;
-    core_message.clear();
-    const auto check = [&](exr_result_t rc) {
+
+    [[noreturn]] void fail(const char* field, const std::string& message) const {
+        throw InputError(path, 0, field, message);
+    }
+    void check(exr_result_t rc) const {
         if (rc != EXR_ERR_SUCCESS)
             fail("", "cannot read EXR: " +
                          (core_message.empty() ? exr_get_default_error_message(rc) : core_message));
-    };
-    check(exr_start_read(&core.context, path.c_str(), &init));
+    }
+    exr_const_context_t context() const { return core.context; }
+};
 
+std::string window_text(const exr_attr_box2i_t& w) {
+    return "(" + std::to_string(w.min.x) + ", " + std::to_string(w.min.y) + ") to (" +
+           std::to_string(w.max.x) + ", " + std::to_string(w.max.y) + ")";
+}
+
+// Step 1: the first part's layout (the part the suite reads): flat, its data window's sizes in
+// 64 bits, within a side's limit and fewer than 2^31 pixels (an Image counts them in int), its
+// codec and channels.
+ExrLayout first_part_layout(const HeaderCheck& h) {
     ExrLayout layout;
-    check(exr_get_count(core.context, &layout.parts));
+    h.check(exr_get_count(h.context(), &layout.parts));
     exr_storage_t storage;
-    check(exr_get_storage(core.context, 0, &storage));
+    h.check(exr_get_storage(h.context(), 0, &storage));
     if (storage == EXR_STORAGE_DEEP_SCANLINE || storage == EXR_STORAGE_DEEP_TILED)
-        fail("type", "holds deep data (many samples per pixel): the suite reads flat images");
+        h.fail("type", "holds deep data (many samples per pixel): the suite reads flat images");
     layout.tiled = storage == EXR_STORAGE_TILED;
     const char* name = nullptr;
-    if (exr_get_name(core.context, 0, &name) == EXR_ERR_SUCCESS && name) layout.part_name = name;
+    if (exr_get_name(h.context(), 0, &name) == EXR_ERR_SUCCESS && name) layout.part_name = name;
 
-    // The data window: sizes in 64 bits, within a side's limit, fewer than 2^31 pixels (an
-    // Image counts them in int).
     exr_attr_box2i_t window;
-    check(exr_get_data_window(core.context, 0, &window));
+    h.check(exr_get_data_window(h.context(), 0, &window));
     layout.width = int64_t{window.max.x} - window.min.x + 1;
     layout.height = int64_t{window.max.y} - window.min.y + 1;
-    const std::string window_text = "(" + std::to_string(window.min.x) + ", " +
-                                    std::to_string(window.min.y) + ") to (" +
-                                    std::to_string(window.max.x) + ", " +
-                                    std::to_string(window.max.y) + ")";
-    if (layout.width < 1 || layout.height < 1) fail("dataWindow", window_text + " holds no pixels");
+    if (layout.width < 1 || layout.height < 1)
+        h.fail("dataWindow", window_text(window) + " holds no pixels");
     if (layout.width > kMaxSide || layout.height > kMaxSide)
-        fail("dataWindow",
-             window_text + " is over " + std::to_string(kMaxSide) + " pixels wide or tall");
+        h.fail("dataWindow",
+               window_text(window) + " is over " + std::to_string(kMaxSide) + " pixels wide or tall");
     if (layout.width * layout.height > INT32_MAX)
-        fail("dataWindow", window_text + " holds 2^31 pixels or more");
+        h.fail("dataWindow", window_text(window) + " holds 2^31 pixels or more");
 
     exr_compression_t compression;
-    check(exr_get_compression(core.context, 0, &compression));
+    h.check(exr_get_compression(h.context(), 0, &compression));
     layout.compression = static_cast<int>(compression);
     const exr_attr_chlist_t* channels = nullptr;
-    check(exr_get_channels(core.context, 0, &channels));
+    h.check(exr_get_channels(h.context(), 0, &channels));
     for (int c = 0; channels && c < channels->num_channels; ++c) {
         const exr_attr_chlist_entry_t& e = channels->entries[c];
         layout.channels.push_back({std::string(e.name.str, static_cast<size_t>(e.name.length)),
                                    static_cast<int>(e.pixel_type), e.x_sampling, e.y_sampling});
     }
+    return layout;
+}
 
-    // What OpenEXR allocates before decoding: a chunk's lines of every channel (scanlines), or
-    // a row of tiles (tiles, read as scanlines), and our planes of the whole window; a file of
-    // this size holds at most kMaxSamplesPerByte samples per byte in any codec.
+// Step 2: what OpenEXR allocates before decoding, a chunk's lines of every channel (scanlines)
+// or a row of tiles (tiles, read as scanlines), and our planes of the whole window: a file of
+// this size holds at most kMaxSamplesPerByte samples per byte in any codec.
+void check_decoded_size(const HeaderCheck& h, const ExrLayout& layout, int64_t file_bytes) {
     int64_t chunk_lines = lines_per_chunk(layout.compression), tile_width = 0;
     if (layout.tiled) {
         exr_attr_tiledesc_t tiles;
-        check(exr_get_tile_descriptor(core.context, 0, &tiles.x_size, &tiles.y_size, nullptr,
-                                      nullptr));
+        h.check(exr_get_tile_descriptor(h.context(), 0, &tiles.x_size, &tiles.y_size, nullptr,
+                                        nullptr));
         chunk_lines = tiles.y_size;
         tile_width = tiles.x_size;
     }
@@ -189,16 +194,77 @@ ExrLayout check_exr_header(const std::string& path) {
         channel_count * std::max(layout.width * std::max(layout.height, chunk_lines),
                                  tile_width * chunk_lines);
     if (samples > kMaxSamplesPerByte * file_bytes)
-        fail("channels", std::to_string(layout.channels.size()) + " channels of a " +
-                             std::to_string(layout.width) + " x " +
-                             std::to_string(layout.height) + " window (" +
-                             compression_name(layout.compression) +
-                             ") are more than a file of " + std::to_string(file_bytes) +
-                             " bytes can encode (damaged?)");
+        h.fail("channels", std::to_string(layout.channels.size()) + " channels of a " +
+                               std::to_string(layout.width) + " x " +
+                               std::to_string(layout.height) + " window (" +
+                               compression_name(layout.compression) +
+                               ") are more than a file of " + std::to_string(file_bytes) +
+                               " bytes can encode (damaged?)");
+}
 
-    // The chunks' offsets: 8 bytes each in the file, for every part (OpenEXR reads every part's
-    // table); a chunkCount attribute must be the data window's. And the C++ library, which
-    // decodes, must have read the same sizes (an attribute given twice: each keeps another).
+// Step 3, for one part: the C++ library, which decodes, must have read the sizes OpenEXRCore
+// checked (an attribute given twice: each keeps another), and a chunkCount attribute must be
+// the data window's. Returns the part's chunks.
+int64_t check_part_agrees(const HeaderCheck& h, int part, const Imf::Header& d) {
+    const auto differs = [&](const char* field) {
+        h.fail(field, "is given twice, or read differently by OpenEXR's two libraries, in part " +
+                          std::to_string(part) + " (damaged?)");
+    };
+    exr_attr_box2i_t box;
+    h.check(exr_get_data_window(h.context(), part, &box));
+    const Imath::Box2i& dw = d.dataWindow();
+    if (dw.min.x != box.min.x || dw.min.y != box.min.y || dw.max.x != box.max.x ||
+        dw.max.y != box.max.y)
+        differs("dataWindow");
+    exr_compression_t codec;
+    h.check(exr_get_compression(h.context(), part, &codec));
+    if (static_cast<int>(d.compression()) != static_cast<int>(codec)) differs("compression");
+    const exr_attr_chlist_t* list = nullptr;
+    h.check(exr_get_channels(h.context(), part, &list));
+    int count = 0;
+    for (auto c = d.channels().begin(); c != d.channels().end(); ++c) ++count;
+    if (!list || count != list->num_channels) differs("channels");
+    exr_storage_t kind;
+    h.check(exr_get_storage(h.context(), part, &kind));
+    if (kind == EXR_STORAGE_TILED || kind == EXR_STORAGE_DEEP_TILED) {
+        uint32_t x_size = 0, y_size = 0;
+        h.check(exr_get_tile_descriptor(h.context(), part, &x_size, &y_size, nullptr, nullptr));
+        if (!d.hasTileDescription() || d.tileDescription().xSize != x_size ||
+            d.tileDescription().ySize != y_size)
+            differs("tiles");
+    }
+    int32_t chunks = 0;
+    h.check(exr_get_chunk_count(h.context(), part, &chunks));
+    int32_t stated = 0;
+    if (exr_attr_get_int(h.context(), part, "chunkCount", &stated) == EXR_ERR_SUCCESS &&
+        stated != chunks)
+        h.fail("chunkCount", "is " + std::to_string(stated) + ", but part " +
+                                 std::to_string(part) + "'s data window makes " +
+                                 std::to_string(chunks) + " chunks");
+    if (d.hasChunkCount() && d.chunkCount() != chunks) differs("chunkCount");
+    return chunks;
+}
+
+}  // namespace
+
+ExrLayout check_exr_header(const std::string& path) {
+    HeaderCheck h{path, {}};
+    std::error_code error;
+    const auto file_bytes = static_cast<int64_t>(std::filesystem::file_size(path, error));
+    if (error) h.fail("", "cannot read EXR: " + error.message());
+
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = keep_core_message;
+    init.max_image_width = init.max_image_height = static_cast<int>(kMaxSide);
+    init.max_tile_width = init.max_tile_height = static_cast<int>(kMaxSide);
+    core_message.clear();
+    h.check(exr_start_read(&h.core.context, path.c_str(), &init));
+
+    const ExrLayout layout = first_part_layout(h);
+    check_decoded_size(h, layout, file_bytes);
+
+    // Every part's headers as the decoder reads them, and the chunks' offsets: 8 bytes each in
+    // the file, for every part (OpenEXR reads every part's table).
     std::vector<Imf::Header> decoder;
     try {
         decoder = headers_as_the_decoder_reads(path, layout.parts);
@@ -206,53 +272,18 @@ ExrLayout check_exr_header(const std::string& path) {
         rethrow_as_input_error(path, "cannot read EXR");
     }
     if (static_cast<int>(decoder.size()) != layout.parts)
-        fail("", "OpenEXR's two libraries read " + std::to_string(layout.parts) + " and " +
-                     std::to_string(decoder.size()) + " parts (damaged?)");
+        h.fail("", "OpenEXR's two libraries read " + std::to_string(layout.parts) + " and " +
+                       std::to_string(decoder.size()) + " parts (damaged?)");
     int64_t all_chunks = 0;
-    for (int part = 0; part < layout.parts; ++part) {
-        const auto differs = [&](const char* field) {
-            fail(field, "is given twice, or read differently by OpenEXR's two libraries, in part " +
-                            std::to_string(part) + " (damaged?)");
-        };
-        const Imf::Header& d = decoder[static_cast<size_t>(part)];
-        exr_attr_box2i_t box;
-        check(exr_get_data_window(core.context, part, &box));
-        const Imath::Box2i& dw = d.dataWindow();
-        if (dw.min.x != box.min.x || dw.min.y != box.min.y || dw.max.x != box.max.x ||
-            dw.max.y != box.max.y)
-            differs("dataWindow");
-        exr_compression_t codec;
-        check(exr_get_compression(core.context, part, &codec));
-        if (static_cast<int>(d.compression()) != static_cast<int>(codec)) differs("compression");
-        const exr_attr_chlist_t* list = nullptr;
-        check(exr_get_channels(core.context, part, &list));
-        int count = 0;
-        for (auto c = d.channels().begin(); c != d.channels().end(); ++c) ++count;
-        if (!list || count != list->num_channels) differs("channels");
-        exr_storage_t kind;
-        check(exr_get_storage(core.context, part, &kind));
-        if (kind == EXR_STORAGE_TILED || kind == EXR_STORAGE_DEEP_TILED) {
-            uint32_t x_size = 0, y_size = 0;
-            check(exr_get_tile_descriptor(core.context, part, &x_size, &y_size, nullptr, nullptr));
-            if (!d.hasTileDescription() || d.tileDescription().xSize != x_size ||
-                d.tileDescription().ySize != y_size)
-                differs("tiles");
-        }
-        int32_t chunks = 0;
-        check(exr_get_chunk_count(core.context, part, &chunks));
-        int32_t stated = 0;
-        if (exr_attr_get_int(core.context, part, "chunkCount", &stated) == EXR_ERR_SUCCESS &&
-            stated != chunks)
-            fail("chunkCount", "is " + std::to_string(stated) + ", but part " +
-                                   std::to_string(part) + "'s data window makes " +
-                                   std::to_string(chunks) + " chunks");
-        if (d.hasChunkCount() && d.chunkCount() != chunks) differs("chunkCount");
-        all_chunks += chunks;
+    for (int part = 0; part < layout.parts; ++part)
+        all_chunks += check_part_agrees(h, part, decoder[static_cast<size_t>(part)]);
+    if (8 * all_chunks > file_bytes) {
+        exr_attr_box2i_t window;
+        h.check(exr_get_data_window(h.context(), 0, &window));
+        h.fail("dataWindow", window_text(window) + " makes " + std::to_string(all_chunks) +
+                                 " chunks, whose offsets alone are more than the file's " +
+                                 std::to_string(file_bytes) + " bytes (damaged or truncated?)");
     }
-    if (8 * all_chunks > file_bytes)
-        fail("dataWindow", window_text + " makes " + std::to_string(all_chunks) +
-                               " chunks, whose offsets alone are more than the file's " +
-                               std::to_string(file_bytes) + " bytes (damaged or truncated?)");
     return layout;
 }
 
