@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "render/lesson.h"
+#include "driver/lesson.h"
 
 namespace lessons {
 

@@ -2,18 +2,24 @@
 # Every include points to the same floor or lower (docs/architecture.md, "The floors").
 #
 # The core's folders stand on floors, lowest first:
-#   0 geometry   1 sampling   2 accel, materials   3 scene   4 lights   5 io   6 render
+#   0 geometry   1 sampling   2 accel, materials   3 scene   4 lights   5 io   6 render   7 farm
+#   8 driver
 # A file under common/F/ may include a header of its own folder or of a folder on a floor at or
-# below F's. The chapters stand above the core, in the lecture's order: chapters/NN_*/ may include
-# any core header and the headers of chapters numbered NN or lower (found by name in their
-# folders), never a later lesson's. The core includes no chapter and no tool. A folder under
-# common/ that is not in the table below is an error too, so that a new room must be given a floor.
-# Prints each violation as "FILE:LINE: includes HEADER (floor X above floor Y)" and exits 1 if
-# there is one; else prints how many includes it checked and exits 0.
+# below F's. The chapters stand above the core, in the lecture's order: a file of chapters/NN_*/
+# may include any core header and the headers of chapters numbered NN or lower, never a later
+# lesson's. Every quoted include names its folder ("render/film.h", "05_bidirectional/mis.h"),
+# so the lesson or floor of a header is read from its path; an include that names no folder, or
+# a folder that is neither a core folder nor a lesson, is an error. The core includes no chapter
+# and no tool. A folder under common/ that is not in the table below is an error too, so that a
+# new room must be given a floor.
+# Prints each violation as "FILE:LINE: includes HEADER (why)" and exits 1 if there is one; else
+# prints how many includes it checked and exits 0.
 # Usage: tests/check_include_floors.sh [REPOSITORY_ROOT]   (default: this script's parent folder)
 #        tests/check_include_floors.sh --negative-control [REPOSITORY_ROOT]
 # The second form checks the check: on a copy of the core and chapters in which geometry/math.h
-# includes render/app.h and lesson 1 includes lesson 5's header, it must report both and fail.
+# includes driver/app.h, render/film.h includes farm/part.h, lesson 1 includes lesson 5's header
+# and lesson 4's own header by its bare name, and io/image.h a lesson's header, it must report
+# all five and fail.
 set -euo pipefail
 
 if [ "${1:-}" = "--negative-control" ]; then
@@ -21,34 +27,35 @@ if [ "${1:-}" = "--negative-control" ]; then
     copy="$(mktemp -d)"
     trap 'rm -rf "$copy"' EXIT
     cp -r "$source_root/common" "$source_root/chapters" "$copy/"
-    echo '#include "render/app.h"' >>"$copy/common/geometry/math.h"
-    echo '#include "bidirectional.h"' >>"$copy/chapters/01_ray_casting/ray_casting.cpp"
+    echo '#include "driver/app.h"' >>"$copy/common/geometry/math.h"
+    echo '#include "farm/part.h"' >>"$copy/common/render/film.h"
+    echo '#include "05_bidirectional/bidirectional.h"' >>"$copy/chapters/01_ray_casting/ray_casting.cpp"
+    echo '#include "rendering_equation.h"' >>"$copy/chapters/04_rendering_equation/lesson.cpp"
+    echo '#include "01_ray_casting/ray_casting.h"' >>"$copy/common/io/image.h"
     if out="$(bash "${BASH_SOURCE[0]}" "$copy")"; then
         echo "negative control: the check passed a core with upward includes:"
         echo "$out"
         exit 1
     fi
     echo "$out"
-    grep -q '^common/geometry/math.h:[0-9]*: includes "render/app.h" (floor 6' <<<"$out" &&
-        grep -q '^chapters/01_ray_casting/ray_casting.cpp:[0-9]*: includes "bidirectional.h"' \
-            <<<"$out" || { echo "negative control: a violation was not reported"; exit 1; }
-    echo "negative control: both upward includes reported"
+    missing=0
+    for expected in \
+        '^common/geometry/math.h:[0-9]*: includes "driver/app.h" (floor 8' \
+        '^common/render/film.h:[0-9]*: includes "farm/part.h" (floor 7' \
+        '^chapters/01_ray_casting/ray_casting.cpp:[0-9]*: includes "05_bidirectional/bidirectional.h" (lesson 05' \
+        '^chapters/04_rendering_equation/lesson.cpp:[0-9]*: includes "rendering_equation.h" (names no folder' \
+        '^common/io/image.h:[0-9]*: includes "01_ray_casting/ray_casting.h" (a lesson'; do
+        grep -q "$expected" <<<"$out" || { echo "negative control: not reported: $expected"; missing=1; }
+    done
+    [ "$missing" -eq 0 ] || exit 1
+    echo "negative control: all five planted includes reported"
     exit 0
 fi
 ROOT="$(cd "${1:-$(dirname "${BASH_SOURCE[0]}")/..}" && pwd)"
 cd "$ROOT"
 
 declare -A floor=([geometry]=0 [sampling]=1 [accel]=2 [materials]=2 [scene]=3 [lights]=4
-                  [io]=5 [render]=6)
-chapter_floor=7  # every chapter stands above the whole core
-
-# Which chapter (its two-digit number) holds a header named by its bare name.
-declare -A chapter_of_header=()
-for h in chapters/[0-9][0-9]_*/*.h; do
-    [ -e "$h" ] || continue
-    number="$(basename "$(dirname "$h")")"
-    chapter_of_header[$(basename "$h")]="${number:0:2}"
-done
+                  [io]=5 [render]=6 [farm]=7 [driver]=8)
 
 status=0
 checked=0
@@ -71,37 +78,29 @@ while IFS= read -r hit; do
     line="${rest%%:*}"
     header="$(sed -E 's/^[^"]*"([^"]+)".*$/\1/' <<<"${rest#*:}")"
     checked=$((checked + 1))
+    if [[ "$header" != */* ]]; then
+        report "$file:$line" "$header" "names no folder: write it as \"FOLDER/$header\""
+        continue
+    fi
+    target="${header%%/*}"
+    # The including file's place: a core folder's floor, or a lesson's number.
     case "$file" in
-        common/*)
-            room="$(cut -d/ -f2 <<<"$file")"
-            from="${floor[$room]:-}"
-            [ -n "$from" ] || continue  # reported above
-            if [[ "$header" == */* ]]; then
-                target="${header%%/*}"
-                to="${floor[$target]:-}"
-                if [ -z "$to" ]; then
-                    report "$file:$line" "$header" "not a folder of the core"
-                elif [ "$to" -gt "$from" ]; then
-                    report "$file:$line" "$header" "floor $to, $target/, above floor $from, $room/"
-                fi
-            elif [ -n "${chapter_of_header[$header]+set}" ] && [ ! -e "common/$room/$header" ]; then
-                report "$file:$line" "$header" "a chapter's header, above the whole core"
-            fi
-            ;;
-        chapters/*)
-            number="$(cut -d/ -f2 <<<"$file")"
-            number="${number:0:2}"
-            if [[ "$header" == */* ]]; then
-                target="${header%%/*}"
-                [ -n "${floor[$target]+set}" ] ||
-                    report "$file:$line" "$header" "not a folder of the core"
-            elif [ -n "${chapter_of_header[$header]+set}" ] &&
-                 [ "${chapter_of_header[$header]}" \> "$number" ]; then
-                report "$file:$line" "$header" \
-                    "lesson ${chapter_of_header[$header]}'s header, a later lesson than $number"
-            fi
-            ;;
+        common/*) room="$(cut -d/ -f2 <<<"$file")"; from="${floor[$room]:-}"; number="" ;;
+        *) lesson="$(cut -d/ -f2 <<<"$file")"; number="${lesson:0:2}"; from="" ;;
     esac
+    if [[ "$target" =~ ^[0-9][0-9]_ ]]; then
+        if [ ! -d "chapters/$target" ]; then
+            report "$file:$line" "$header" "not a lesson's folder"
+        elif [ -z "$number" ]; then
+            report "$file:$line" "$header" "a lesson's header, above the whole core"
+        elif [ "${target:0:2}" \> "$number" ]; then
+            report "$file:$line" "$header" "lesson ${target:0:2}'s header, a later lesson than $number"
+        fi
+    elif [ -z "${floor[$target]+set}" ]; then
+        report "$file:$line" "$header" "not a folder of the core or a lesson"
+    elif [ -n "$from" ] && [ "${floor[$target]}" -gt "$from" ]; then
+        report "$file:$line" "$header" "floor ${floor[$target]}, $target/, above floor $from, $room/"
+    fi
 done < <(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]+"' common chapters \
              --include='*.h' --include='*.cpp')
 

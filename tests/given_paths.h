@@ -16,10 +16,10 @@
 #include <utility>
 #include <vector>
 
-#include "mis.h"
+#include "05_bidirectional/mis.h"
+#include "05_bidirectional/subpaths.h"
 #include "scene/environment.h"
 #include "scene/scene.h"
-#include "subpaths.h"
 
 namespace lessons::test {
 
@@ -133,12 +133,16 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
         // subpaths; and
         // s >= 1 only where its sampler can choose x_0's light at all.
         bool runs;
-        if (s == 0) runs = !point;
+        if (s == 0)
+            runs = !point;
         else if (sky)
             runs = s == 1 && t >= 2 && !delta(1) && b.lights.environment_pdf(path.light.p) > 0.0f;
-        else if (t == 1) runs = n == 2 || !delta(n - 2);
-        else if (s == 1) runs = !delta(1);
-        else runs = !delta(s - 1) && !delta(s);
+        else if (t == 1)
+            runs = n == 2 || !delta(n - 2);
+        else if (s == 1)
+            runs = !delta(1);
+        else
+            runs = !delta(s - 1) && !delta(s);
         if (s >= 1 && !sky) runs = runs && sub->light[0].pdf_fwd > 0.0f;
         if (!runs) continue;
         Vertex light_sample, camera_end;
@@ -172,9 +176,9 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
         for (int j = 1; j <= n - 2; ++j) {
             if (delta(j)) continue;  // no photon is left there
             const int t = n - j;
-            const float w = merge_weight(b, std::span<const Vertex>(sub->light).first(j), j,
-                                         sub->light[j], std::span<const Vertex>(camera).first(t),
-                                         t, merge_eta);
+            const float w =
+                merge_weight(b, std::span<const Vertex>(sub->light).first(j), j, sub->light[j],
+                             std::span<const Vertex>(camera).first(t), t, merge_eta);
             EXPECT_TRUE(w >= 0.0f && w <= 1.0f) << path.name << ", merge at " << j << ": " << w;
             out.merges.push_back(w);
             record("merge " + std::to_string(j), w);
@@ -199,9 +203,9 @@ inline Room room_with_every_kind_of_vertex() {
     const uint32_t wall = add_material(scene, MaterialType::Glossy, Color(0.4f));
     const uint32_t mirror = add_material(scene, MaterialType::Mirror, Color(0.9f));
     const uint32_t glass = add_material(scene, MaterialType::Glass, Color(1.0f));
-    scene.add_quad(Quad(Vec3(-3, 0, -4), Vec3(0, 0, 7), Vec3(6, 0, 0)), floor);  // y = 0, up
-    scene.add_quad(Quad(Vec3(-3, 0, 2), Vec3(0, 3, 0), Vec3(6, 0, 0)), wall);    // z = 2, -z
-    scene.add_quad(Quad(Vec3(2.5f, 0, -2), Vec3(0, 0, 3.5f), Vec3(0, 2, 0)), mirror);  // -x
+    scene.add_quad(Quad(Vec3(-3, 0, -4), Vec3(0, 0, 7), Vec3(6, 0, 0)), floor);         // y = 0, up
+    scene.add_quad(Quad(Vec3(-3, 0, 2), Vec3(0, 3, 0), Vec3(6, 0, 0)), wall);           // z = 2, -z
+    scene.add_quad(Quad(Vec3(2.5f, 0, -2), Vec3(0, 0, 3.5f), Vec3(0, 2, 0)), mirror);   // -x
     scene.add_quad(Quad(Vec3(-2.5f, 0, -2), Vec3(0, 2, 0), Vec3(0, 0, 3.5f)), mirror);  // +x
     scene.add_sphere({Vec3(0.6f, 0.6f, 0.6f), 0.3f}, glass);
     // The lamps: a ceiling rectangle facing down, a sphere, a two-sided square facing -x (and
@@ -256,13 +260,15 @@ inline std::vector<GivenPath> paths_in_the_room(const Room& room) {
     const Vec3 sun_entry = ball - 0.3f * sun;
     const Vec3 sun_exit = ball + 0.3f * glm::normalize(Vec3(0.2f, -1, 0.3f));
     const Vec3 sun_under = sun_exit + sun_exit.y * Vec3(0.2f, -1, 0.3f);
-    return {{"rectangle, floor", on_area_light(scene, ceiling, Vec3(0.1f, 2, 0.05f), down),
+    return {{"rectangle, floor",
+             on_area_light(scene, ceiling, Vec3(0.1f, 2, 0.05f), down),
              {Vec3(0.2f, 0, -0.6f)}},
             {"rectangle, floor, glossy wall",
              on_area_light(scene, ceiling, Vec3(-0.2f, 2, 0.1f), down),
              {Vec3(-0.4f, 0, 0.3f), Vec3(0.3f, 0.9f, 2)}},
             {"rectangle seen from near its plane",
-             on_area_light(scene, ceiling, Vec3(0.2f, 2, 0.4f), down), {Vec3(0.3f, 1.999f, 2)}},
+             on_area_light(scene, ceiling, Vec3(0.2f, 2, 0.4f), down),
+             {Vec3(0.3f, 1.999f, 2)}},
             {"rectangle, floor, wall near the lamp's plane, floor",
              on_area_light(scene, ceiling, Vec3(0.2f, 2, 0.4f), down),
              {Vec3(-0.3f, 0, 0.9f), Vec3(0.3f, 1.998f, 2), Vec3(0.1f, 0, -1.0f)}},
@@ -282,26 +288,35 @@ inline std::vector<GivenPath> paths_in_the_room(const Room& room) {
              on_area_light(scene, ceiling, Vec3(-0.3f, 2, -0.3f), down),
              {before_mirrors, m1, m2, after_mirrors}},
             {"rectangle, glass ball, floor (a caustic)",
-             on_area_light(scene, ceiling, Vec3(0.45f, 2, 0.45f), down), {entry, exit, under_ball}},
+             on_area_light(scene, ceiling, Vec3(0.45f, 2, 0.45f), down),
+             {entry, exit, under_ball}},
             {"point light, floor", point_light_at(point), {Vec3(-0.3f, 0, -0.9f)}},
-            {"point light, floor, glossy wall", point_light_at(point),
+            {"point light, floor, glossy wall",
+             point_light_at(point),
              {Vec3(-0.3f, 0, 0.2f), Vec3(-0.2f, 0.7f, 2)}},
-            {"point light, mirror, floor (only light tracing)", point_light_at(point),
+            {"point light, mirror, floor (only light tracing)",
+             point_light_at(point),
              {on_mirror, lit}},
             {"point light seen directly", point_light_at(point), {}},
             {"spot light, floor in its full cone", point_light_at(spot), {Vec3(1.0f, 0, 0.0f)}},
-            {"spot light, floor in its fade, glossy wall", point_light_at(spot),
+            {"spot light, floor in its fade, glossy wall",
+             point_light_at(spot),
              {spot_fade, Vec3(0.4f, 1.0f, 2)}},
-            {"spot light, glass ball, floor (a caustic)", point_light_at(spot),
+            {"spot light, glass ball, floor (a caustic)",
+             point_light_at(spot),
              {spot_entry, spot_exit, spot_under}},
             {"sun, floor", directional_from(-sun), {Vec3(-0.6f, 0, -1.2f)}},
-            {"sun, floor, glossy wall", directional_from(-sun),
+            {"sun, floor, glossy wall",
+             directional_from(-sun),
              {Vec3(-0.6f, 0, 0.4f), Vec3(0.2f, 0.8f, 2)}},
-            {"sun, mirror, floor (only light tracing)", directional_from(-sun),
+            {"sun, mirror, floor (only light tracing)",
+             directional_from(-sun),
              {sun_on_mirror, sun_lit}},
-            {"sun, glass ball, floor (a caustic)", directional_from(-sun),
+            {"sun, glass ball, floor (a caustic)",
+             directional_from(-sun),
              {sun_entry, sun_exit, sun_under}},
-            {"sun, floor, two flat mirrors, glossy wall", directional_from(-sun),
+            {"sun, floor, two flat mirrors, glossy wall",
+             directional_from(-sun),
              {before_mirrors, m1, m2, after_mirrors}}};
 }
 
@@ -333,9 +348,10 @@ inline std::vector<GivenPath> paths_under_the_sky() {
     const Vec3 up_left = glm::normalize(Vec3(-1.0f, 0.4f, 0.3f));
     const Vec3 lit_floor(-1.5f, 0, -0.5f);
     const Vec3 seen_in_mirror = glm::normalize(Vec3(2.0f, 1.0f, 0.1f));  // from the mirror
-    const Vec3 on_plane = lit_floor + 0.5f * Vec3(-2.0f, 1.0f, 0.1f);     // x = -2.5
+    const Vec3 on_plane = lit_floor + 0.5f * Vec3(-2.0f, 1.0f, 0.1f);    // x = -2.5
     return {{"sky, ground", sky_towards(up_left), {Vec3(0.2f, 0, -0.6f)}},
-            {"sky, ground, metal plate", sky_towards(up_left),
+            {"sky, ground, metal plate",
+             sky_towards(up_left),
              {Vec3(0.1f, 0, 0.4f), Vec3(0.3f, 0.6f, 2)}},
             {"sky, mirror, ground", sky_towards(seen_in_mirror), {on_plane, lit_floor}},
             {"sky seen directly", sky_towards(Vec3(0.1f, 0.8f, 3)), {}}};

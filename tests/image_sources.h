@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "kernel.h"
+#include "06_photon_mapping/kernel.h"
 #include "scene/scene.h"
 
 namespace lessons::test {

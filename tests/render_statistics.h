@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "render/app.h"
+#include "driver/app.h"
 #include "statistics.h"
 
 namespace lessons::test {

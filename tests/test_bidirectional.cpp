@@ -1,13 +1,13 @@
 // Lesson 5 against closed forms, against lesson 4, and against itself.
 #include <gtest/gtest.h>
 
-#include "bidirectional.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "05_bidirectional/bidirectional.h"
+#include "05_bidirectional/mis.h"
 #include "given_paths.h"
-#include "mis.h"
 #include "io/scene_file.h"
-#include "scene/scene.h"
 #include "render_statistics.h"
-#include "rendering_equation.h"
+#include "scene/scene.h"
 #include "test_util.h"
 
 using namespace lessons;
@@ -39,7 +39,6 @@ RenderResult render_lesson4(const Scene& scene, const PathOptions& options, int 
     settings.seed = seed;
     return render_scene(scene, PathTracingModel(scene, options), spp, settings);
 }
-
 
 // |a - b| against the standard error of the difference (floored: an estimate with no variance,
 // such as a furnace seen one segment deep, must then match to rounding).
@@ -420,8 +419,7 @@ TEST(Bidirectional, MisWeightsOfEveryStrategySumToOne) {
     // come first): its share of the power, about 1e-10, is below a float's resolution near 1.
     const test::FaintLamp pair = test::faint_lamp_after_a_bright_light();
     const LightSampler pair_lights(pair.scene);
-    const Bidir pb{pair.scene, pair_lights, pair.scene.camera, pair.scene.width,
-                   pair.scene.height};
+    const Bidir pb{pair.scene, pair_lights, pair.scene.camera, pair.scene.width, pair.scene.height};
     expect_weights_sum_to_one(pb, test::paths_of_the_faint_lamp(pair));
 
     // A lamp seen directly (one segment): inside its image the camera alone (s = 0: 1, s = 1:
@@ -437,7 +435,8 @@ TEST(Bidirectional, MisWeightsOfEveryStrategySumToOne) {
         const Vec3 p = inside ? Vec3(0.1f, 0.1f, 0) : Vec3(0.775f, 0.3f, 0);
         const test::GivenPath seen{
             inside ? "a lamp seen directly, inside" : "at the lamp's outline",
-            test::on_area_light(facing, lamp, p, toward_camera), {}};
+            test::on_area_light(facing, lamp, p, toward_camera),
+            {}};
         const test::WeightSum w = test::weights_of_every_strategy(fb, seen);
         EXPECT_EQ(w.strategies, 2) << seen.name;
         EXPECT_NEAR(w.sum, 1.0, 1e-5) << seen.name << " (" << w.terms << ")";
@@ -485,9 +484,8 @@ TEST(Bidirectional, ALightThatIsAlmostNeverChosenKeepsItsLight) {
             const float phi = 123.75f * kPi / 180.0f;
             const Vec3 across(-std::sin(phi), 0, std::cos(phi));
             const Vec3 centre = 15.0f * Vec3(std::cos(phi), 0, std::sin(phi));
-            scene.add_quad(Quad(centre - 9.0f * across - Vec3(0, 1, 0), 18.0f * across,
-                                Vec3(0, 11, 0)),
-                           k);
+            scene.add_quad(
+                Quad(centre - 9.0f * across - Vec3(0, 1, 0), 18.0f * across, Vec3(0, 11, 0)), k);
         } else {
             scene.add_quad(Quad(Vec3(-1, 2, -1.5f), Vec3(1, 0, 0), Vec3(0, 0, 1)),
                            scene.add_material(lamp));
@@ -659,7 +657,8 @@ albedo = [0, 0, 0]
 emission = [20, 20, 20]
 [[shapes]]
 type = "mesh"
-file = ")" + std::string(LESSONS_SOURCE_DIR) + R"(/scenes/hard/meshes/lowpoly_sphere_smooth.obj"
+file = ")" + std::string(LESSONS_SOURCE_DIR) +
+                                R"(/scenes/hard/meshes/lowpoly_sphere_smooth.obj"
 material = "clay"
 [[shapes]]
 type = "quad"

@@ -2,10 +2,10 @@
 // The reference is the furnace's closed form (radiance 5 everywhere), which no renderer made.
 #include <gtest/gtest.h>
 
+#include "01_ray_casting/ray_casting.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "driver/app.h"
 #include "io/scene_file.h"
-#include "ray_casting.h"
-#include "render/app.h"
-#include "rendering_equation.h"
 
 using namespace lessons;
 
@@ -30,8 +30,7 @@ TEST(Convergence, PathTracingMseFallsAsOneOverSpp) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/furnace.toml", {48, 48});
     const LightSampler lights(scene);
-    const std::vector<Checkpoint> points =
-        convergence(scene, PathTracingModel(scene, {}), 32);
+    const std::vector<Checkpoint> points = convergence(scene, PathTracingModel(scene, {}), 32);
     ASSERT_EQ(points.size(), 6u);  // 1, 2, 4, 8, 16, 32
     // Least-squares slope of log MSE against log spp over the last four doublings (2 .. 32).
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
@@ -54,8 +53,7 @@ TEST(Convergence, RayCastingDoesNotConvergeToTheGlobalIllumination) {
     // error stays at (5 - 1)^2 = 16 however many samples it takes.
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/furnace.toml", {48, 48});
-    const std::vector<Checkpoint> points =
-        convergence(scene, RayCastingModel(scene, {}), 16);
+    const std::vector<Checkpoint> points = convergence(scene, RayCastingModel(scene, {}), 16);
     ASSERT_EQ(points.size(), 5u);
     EXPECT_NEAR(points.front().error.mse, 16.0, 1e-3);
     EXPECT_NEAR(points.back().error.mse, 16.0, 1e-3);
@@ -77,8 +75,8 @@ TEST(Convergence, TimeBudgetRendersWholePassesUntilSpent) {
     // Whole passes: the same seed and sample count give the same image as a fixed-spp render.
     ProgressivePlan fixed_plan;
     fixed_plan.spp = spp;
-    const RenderResult fixed = render_progressive(scene, PathTracingModel(scene, {}),
-                                                  fixed_plan, settings, nullptr);
+    const RenderResult fixed =
+        render_progressive(scene, PathTracingModel(scene, {}), fixed_plan, settings, nullptr);
     for (size_t i = 0; i < r.image.pixels.size(); ++i)
         ASSERT_EQ(r.image.pixels[i], fixed.image.pixels[i]);
 }

@@ -6,12 +6,12 @@
 
 #include <filesystem>
 
-#include "bidirectional.h"
-#include "reflection_equation.h"
+#include "03_reflection_equation/reflection_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "05_bidirectional/bidirectional.h"
 #include "io/image.h"
 #include "io/scene_file.h"
 #include "render_statistics.h"
-#include "rendering_equation.h"
 #include "test_util.h"
 
 using namespace lessons;
@@ -207,7 +207,8 @@ TEST(EnvironmentMap, BlendersStudioLightMapRendersInLesson4) {
     if (!std::filesystem::exists(map))
         GTEST_SKIP() << map << " is absent (Debian's blender-data ships it): nothing to render";
     const Image texels = read_exr(map);
-    const Scene scene = build_scene(parse_scene_string(scene_text("map = \"" + map + "\""), "forest.toml"));
+    const Scene scene =
+        build_scene(parse_scene_string(scene_text("map = \"" + map + "\""), "forest.toml"));
     ASSERT_TRUE(scene.environment_map);
     bool clamped_note = false;
     for (const std::string& note : scene.notes)
@@ -236,7 +237,8 @@ TEST(EnvironmentMap, BlendersStudioLightMapRendersInLesson4) {
                 if (l == 0.0) continue;
                 for (int a = 0; a < 2; ++a)
                     for (int b = 0; b < 2; ++b) {
-                        const double t0 = kPi * (j + 0.5 * b) / h, t1 = kPi * (j + 0.5 * b + 0.5) / h;
+                        const double t0 = kPi * (j + 0.5 * b) / h,
+                                     t1 = kPi * (j + 0.5 * b + 0.5) / h;
                         const double t = 0.5 * (t0 + t1), p = 2.0 * kPi * (i + 0.25 + 0.5 * a) / w;
                         const double cosine = n.x * std::sin(t) * std::cos(p) + n.y * std::cos(t) +
                                               n.z * std::sin(t) * std::sin(p);
@@ -251,7 +253,8 @@ TEST(EnvironmentMap, BlendersStudioLightMapRendersInLesson4) {
     int n = 0, sky = 0;
     for (int y = 0; y < scene.height; ++y)
         for (int x = 0; x < scene.width; ++x) {
-            const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
+            const Ray ray =
+                scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
             const std::optional<Hit> hit = scene.intersect(ray);
             if (!hit) {
                 EXPECT_EQ(r.image.at(x, y), scene.background_radiance(ray.dir)) << x << ", " << y;
@@ -271,7 +274,6 @@ TEST(EnvironmentMap, BlendersStudioLightMapRendersInLesson4) {
     EXPECT_NEAR(render_sum / n, closed_sum / n, test::z_quantile(0.01) * se + 1e-6)
         << n << " pixels; standard error " << se;
 }
-
 
 TEST(EnvironmentMap, ADiffuseSphereUnderAStructuredMapShowsItsIrradianceInLessonsThreeToFive) {
     // A furnace-style closed form with a map that is far from uniform (a sky gradient over a dark

@@ -9,13 +9,14 @@
 #include <iterator>
 #include <random>
 
+#include "01_ray_casting/ray_casting.h"
+#include "farm/merge_parts.h"
+#include "farm/part.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
-#include "ray_casting.h"
-#include "render/merge.h"
-#include "render/part.h"
 #include "render/render.h"
+#include "test_util.h"
 
 using namespace lessons;
 
@@ -104,14 +105,14 @@ TEST(Farm, ASampleTooLargeToSumExactlyIsCountedAsInfinite) {
 TEST(Farm, CropsAndSampleRangesRenderedApartAddUpToTheWholeRender) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {24, 16});
-    const RadianceFn radiance = [&scene](const Ray& ray, Rng& rng) {
+    const test::FunctionModel radiance([&scene](const Ray& ray, Rng& rng) {
         return ray_cast(scene, ray, {}) * (0.5f + rng.uniform());
-    };
+    });
     RenderSettings settings;
     settings.progress = false;
     settings.seed = 5;
     Film whole(24, 16);
-    render(scene.camera, whole, settings, radiance, 0, 6);
+    test::render_film(scene.camera, whole, settings, radiance, 0, 6);
     Film merged(24, 16);
     for (const auto& [x0, x1, y0, y1] :
          std::vector<std::array<int, 4>>{{0, 10, 0, 16}, {10, 24, 0, 5}, {10, 24, 5, 16}})
@@ -122,7 +123,7 @@ TEST(Farm, CropsAndSampleRangesRenderedApartAddUpToTheWholeRender) {
             s.image_height = 16;
             s.crop_x = x0;
             s.crop_y = y0;
-            render(scene.camera, crop, s, radiance, a, b);
+            test::render_film(scene.camera, crop, s, radiance, a, b);
             merged.add_window(crop, x0, y0);
         }
     const Image w = whole.mean(), m = merged.mean();
@@ -240,11 +241,12 @@ TEST(Farm, CoverageNamesTheMissingPiecesAndTheSamplesReached) {
 }
 
 TEST(Farm, PartsHoldingTheSameSamplesOfAPixelAreRefused) {
-    EXPECT_NO_THROW(check_parts_disjoint(
-        {header_only("a", 0, 4, 0, 4, 0, 4), header_only("b", 4, 8, 0, 4, 0, 4),
-         header_only("c", 0, 8, 0, 4, 4, 8)}));
+    EXPECT_NO_THROW(check_parts_disjoint({header_only("a", 0, 4, 0, 4, 0, 4),
+                                          header_only("b", 4, 8, 0, 4, 0, 4),
+                                          header_only("c", 0, 8, 0, 4, 4, 8)}));
     try {
-        check_parts_disjoint({header_only("a", 0, 5, 0, 4, 0, 4), header_only("b", 4, 8, 0, 4, 3, 8)});
+        check_parts_disjoint(
+            {header_only("a", 0, 5, 0, 4, 0, 4), header_only("b", 4, 8, 0, 4, 3, 8)});
         FAIL() << "overlap not refused";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("holds samples 3:4 of pixels 4:5,0:4"),
@@ -274,7 +276,8 @@ TEST(Farm, PartsOfOtherBuildsOrCpusAreNamed) {
     }
     EXPECT_EQ(mixed_builds(parts), "");
     parts[1].header.cpu = "Another CPU";
-    EXPECT_NE(mixed_builds(parts).find("b was made on another CPU (Another CPU)"), std::string::npos);
+    EXPECT_NE(mixed_builds(parts).find("b was made on another CPU (Another CPU)"),
+              std::string::npos);
     parts[1].header.build = "4567";
     EXPECT_NE(mixed_builds(parts).find("b was made by another build"), std::string::npos);
 }
@@ -307,11 +310,13 @@ std::string scene_of_every_file_kind(const std::string& dir) {
     Image sky(4, 2);
     for (size_t i = 0; i < sky.pixels.size(); ++i) sky.pixels[i] = Color(0.1f * float(i + 1));
     write_exr(sky, dir + "/sky.exr");
-    write_text(dir + "/wood.mtl", "newmtl wood\nKd 0.8 0.8 0.8\nmap_Kd wood.png\n"
-                                  "newmtl plain\nKd 0.5 0.5 0.5\n");
-    write_text(dir + "/plank.obj", "mtllib wood.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
-                                   "vt 0 0\nvt 1 0\nvt 0 1\nusemtl wood\nf 1/1 2/2 3/3\n"
-                                   "usemtl plain\nf 2/2 4/1 3/3\n");
+    write_text(dir + "/wood.mtl",
+               "newmtl wood\nKd 0.8 0.8 0.8\nmap_Kd wood.png\n"
+               "newmtl plain\nKd 0.5 0.5 0.5\n");
+    write_text(dir + "/plank.obj",
+               "mtllib wood.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+               "vt 0 0\nvt 1 0\nvt 0 1\nusemtl wood\nf 1/1 2/2 3/3\n"
+               "usemtl plain\nf 2/2 4/1 3/3\n");
     write_text(dir + "/scene.toml", R"([image]
 width = 8
 height = 6
@@ -339,7 +344,8 @@ edge_v = [2, 0, 0]
 
 std::vector<std::string> file_names(const std::vector<std::string>& paths) {
     std::vector<std::string> names;
-    for (const std::string& p : paths) names.push_back(std::filesystem::path(p).filename().string());
+    for (const std::string& p : paths)
+        names.push_back(std::filesystem::path(p).filename().string());
     std::sort(names.begin(), names.end());
     return names;
 }
@@ -362,8 +368,9 @@ TEST(Farm, TheSceneHashCoversEveryFileTheSceneWasMadeOf) {
                                                "wood.mtl", "wood.png"}));
     EXPECT_EQ(hash().second, original);  // nothing changed, nothing moves
 
-    write_text(dir + "/wood.mtl", "newmtl wood\nKd 0.7 0.8 0.8\nmap_Kd wood.png\n"
-                                  "newmtl plain\nKd 0.5 0.5 0.5\n");
+    write_text(dir + "/wood.mtl",
+               "newmtl wood\nKd 0.7 0.8 0.8\nmap_Kd wood.png\n"
+               "newmtl plain\nKd 0.5 0.5 0.5\n");
     const std::string after_mtl = hash().second;
     EXPECT_NE(after_mtl, original) << "an MTL's colour changed and the hash did not";
 
@@ -382,8 +389,8 @@ TEST(Farm, AGltfSceneRecordsItsImages) {
     const std::string gltf = std::string(LESSONS_SOURCE_DIR) + "/tests/gltf/cubes.gltf";
     const Scene whole = load_scene(gltf, {0, 0, {}, 1});
     EXPECT_EQ(file_names(whole.input_files), (std::vector<std::string>{"cubes.gltf", "tiles.png"}));
-    const Scene placed =
-        load_scene(std::string(LESSONS_SOURCE_DIR) + "/tests/gltf/cubes_placed.toml", {0, 0, {}, 1});
+    const Scene placed = load_scene(
+        std::string(LESSONS_SOURCE_DIR) + "/tests/gltf/cubes_placed.toml", {0, 0, {}, 1});
     const std::vector<std::string> names = file_names(placed.input_files);
     for (const char* name : {"cubes_placed.toml", "cubes.gltf", "tiles.png"})
         EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;

@@ -8,15 +8,15 @@
 #include <limits>
 #include <string>
 
+#include "01_ray_casting/ray_casting.h"
+#include "03_reflection_equation/reflection_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
 #include "accel/bvh.h"
+#include "driver/app.h"
 #include "geometry/spawn.h"
 #include "io/scene_file.h"
 #include "lights/lights.h"
 #include "materials/optics.h"
-#include "ray_casting.h"
-#include "reflection_equation.h"
-#include "render/app.h"
-#include "rendering_equation.h"
 #include "sampling/sampling.h"
 #include "statistics.h"
 #include "test_util.h"
@@ -339,8 +339,7 @@ TEST(HardCases, NestedAndTouchingGlassConserveEnergyAndTerminate) {
     const LightSampler lights(scene);
     RenderSettings settings;
     settings.progress = false;
-    const RenderResult r =
-        render_scene(scene, PathTracingModel(scene, {}), 256, settings);
+    const RenderResult r = render_scene(scene, PathTracingModel(scene, {}), 256, settings);
     // Every pixel would be 1 (no absorption anywhere, a sky of 1) but for paths that total
     // internal reflection traps until the 1000-segment cut: those lose their light.
     double lowest = 1.0, highest = 1.0, sum = 0.0;
@@ -410,8 +409,7 @@ TEST(HardCases, LowPolySmoothSphereHasNoBlackSilhouette) {
         Scene scene = load_scene(kScenes + "hard/lowpoly_sphere.toml", {64, 48});
         scene.naive.raw_shading_normals = raw_shading_normals;
         const LightSampler lights(scene);
-        const RenderResult r =
-            render_scene(scene, ReflectionModel(scene, {}), 16, settings);
+        const RenderResult r = render_scene(scene, ReflectionModel(scene, {}), 16, settings);
         int black = 0;
         on_sphere = 0;
         test::for_each_pixel_center(scene.camera, 64, 48, [&](int x, int y, const Ray& ray) {
@@ -469,11 +467,9 @@ TEST(HardCases, FirefliesAreCountedAndClampingIsOptIn) {
     plain.next_event = false;
     RenderSettings settings;
     settings.progress = false;
-    const RenderResult r =
-        render_scene(scene, PathTracingModel(scene, plain), 64, settings);
+    const RenderResult r = render_scene(scene, PathTracingModel(scene, plain), 64, settings);
     settings.clamp = 10.0f;
-    const RenderResult clamped =
-        render_scene(scene, PathTracingModel(scene, plain), 64, settings);
+    const RenderResult clamped = render_scene(scene, PathTracingModel(scene, plain), 64, settings);
     figure("tiny bright light, plain path tracing at 64 spp: " + std::to_string(r.firefly_pixels) +
            " firefly pixels of 1728; with --clamp 10: " + std::to_string(clamped.firefly_pixels) +
            " and " + std::to_string(clamped.clamped_samples) + " clamped samples (biased)");

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -15,15 +14,15 @@
 #include <utility>
 #include <vector>
 
+#include "02_whitted/whitted.h"
 #include "exr_test_files.h"
+#include "farm/part.h"
 #include "io/exr_file.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
 #include "render/film.h"
-#include "render/part.h"
 #include "render/progressive.h"
-#include "whitted.h"
 
 using namespace lessons;
 
@@ -60,12 +59,12 @@ namespace {
 // "visually lossless": measured on this gradient, 0.87% at most; allowed, 2^-6 (1.6%).
 double codec_tolerance(Imf::Compression compression, Imf::PixelType type) {
     switch (compression) {
-    case Imf::PXR24_COMPRESSION: return type == Imf::FLOAT ? 0x1p-16 : 0.0;
-    case Imf::B44_COMPRESSION:
-    case Imf::B44A_COMPRESSION: return type == Imf::HALF ? 0.006 : 0.0;
-    case Imf::DWAA_COMPRESSION:
-    case Imf::DWAB_COMPRESSION: return type == Imf::UINT ? 0.0 : 0x1p-6;
-    default: return 0.0;
+        case Imf::PXR24_COMPRESSION: return type == Imf::FLOAT ? 0x1p-16 : 0.0;
+        case Imf::B44_COMPRESSION:
+        case Imf::B44A_COMPRESSION: return type == Imf::HALF ? 0.006 : 0.0;
+        case Imf::DWAA_COMPRESSION:
+        case Imf::DWAB_COMPRESSION: return type == Imf::UINT ? 0.0 : 0x1p-6;
+        default: return 0.0;
     }
 }
 
@@ -87,9 +86,9 @@ TEST(Image, ExrEveryCompressionPixelTypeAndLayoutReadsTheValuesWritten) {
         for (const Imf::PixelType type : {Imf::HALF, Imf::FLOAT, Imf::UINT})
             for (const exr_test::Layout layout :
                  {exr_test::Layout::Scanline, exr_test::Layout::Tiled, exr_test::Layout::MultiPart})
-                for (const auto& channels :
-                     {std::vector<std::string>{"R", "G", "B"},
-                      std::vector<std::string>{"R", "G", "B", "A"}, std::vector<std::string>{"Y"}}) {
+                for (const auto& channels : {std::vector<std::string>{"R", "G", "B"},
+                                             std::vector<std::string>{"R", "G", "B", "A"},
+                                             std::vector<std::string>{"Y"}}) {
                     exr_test::Spec spec;
                     spec.compression = compression;
                     spec.type = type;
@@ -174,7 +173,8 @@ radius = 1
     for (const Imf::Compression compression : kAllCompressions)
         for (const Imf::PixelType type : {Imf::HALF, Imf::FLOAT})
             for (const exr_test::Layout layout :
-                 {exr_test::Layout::Scanline, exr_test::Layout::Tiled, exr_test::Layout::MultiPart}) {
+                 {exr_test::Layout::Scanline, exr_test::Layout::Tiled,
+                  exr_test::Layout::MultiPart}) {
                 exr_test::Spec spec = base;
                 spec.compression = compression;
                 spec.type = type;
@@ -185,10 +185,10 @@ radius = 1
                 const std::string map = (dir / (label + ".exr")).string();
                 exr_test::write(map, spec);
                 const Image image = render_with(map);
-                const bool lossy = compression == Imf::DWAA_COMPRESSION ||
-                                   compression == Imf::DWAB_COMPRESSION ||
-                                   (type == Imf::HALF && (compression == Imf::B44_COMPRESSION ||
-                                                          compression == Imf::B44A_COMPRESSION));
+                const bool lossy =
+                    compression == Imf::DWAA_COMPRESSION || compression == Imf::DWAB_COMPRESSION ||
+                    (type == Imf::HALF &&
+                     (compression == Imf::B44_COMPRESSION || compression == Imf::B44A_COMPRESSION));
                 const double tolerance = codec_tolerance(compression, type);
                 for (size_t i = 0; i < image.pixels.size(); ++i)
                     for (int c = 0; c < 3; ++c) {
@@ -235,7 +235,7 @@ std::string error_field(Read&& read) {
 
 // The offsets of an EXR file's header end and line offset table (single part).
 struct ExrTable {
-    size_t table = 0;        // the first offset's position (after the header's final NUL)
+    size_t table = 0;          // the first offset's position (after the header's final NUL)
     uint64_t first_chunk = 0;  // where the first chunk starts
 };
 ExrTable exr_table(const std::string& bytes) {
@@ -289,7 +289,8 @@ TEST(Image, DamagedAndLyingExrFilesAreInputErrors) {
     // the C++ library, which decodes, the last (and would allocate for it).
     const auto window = [](int32_t x1, int32_t y1) {
         const int32_t v[4] = {0, 0, x1, y1};
-        return exr_attribute("dataWindow", "box2i", std::string(reinterpret_cast<const char*>(v), 16));
+        return exr_attribute("dataWindow", "box2i",
+                             std::string(reinterpret_cast<const char*>(v), 16));
     };
     std::vector<std::pair<std::string, std::string>> cases = {
         {with(chunk_count(0x7fffffff)), "chunkCount"},
@@ -320,8 +321,8 @@ TEST(Image, DamagedAndLyingExrFilesAreInputErrors) {
     }
     // What OpenEXR's parser refuses (an empty or wrapping window, a window too wide for it):
     // input errors naming the file.
-    for (const std::string& file :
-         {with_window(0, 0, -1, 1), with_window(0, INT32_MIN, 2, 1), with_window(0, 0, 1 << 24, 1)}) {
+    for (const std::string& file : {with_window(0, 0, -1, 1), with_window(0, INT32_MIN, 2, 1),
+                                    with_window(0, 0, 1 << 24, 1)}) {
         write_bytes(path, file);
         try {
             read_exr(path);
@@ -473,7 +474,7 @@ Image varied_image(int w, int h) {
         for (int x = 0; x < w; ++x)
             image.at(x, y) = Color(0.37f * x + 0.01f, 0.5f + 0.11f * y, 0.013f * (x + y)) *
                              std::pow(10.0f, static_cast<float>(y % 5) - 2.0f);
-    image.at(1, 1) = Color(0.0f);           // black
+    image.at(1, 1) = Color(0.0f);            // black
     image.at(2, 1) = Color(3e4f, 2e-3f, 0);  // a sun with a dim channel
     return image;
 }
@@ -543,15 +544,16 @@ TEST(HdrImage, DamagedFilesAreInputErrorsNamingTheFile) {
         const std::string good = write_hdr_file("good.hdr", varied_image(w, 6));
         const std::vector<unsigned char> bytes = file_bytes(good);
         const std::string data(bytes.begin(), bytes.end());
-        const size_t header = data.find("+X " + std::to_string(w) + "\n") + 4 +
-                              std::to_string(w).size();
+        const size_t header =
+            data.find("+X " + std::to_string(w) + "\n") + 4 + std::to_string(w).size();
         const std::string cut = temp_path("cut.hdr");
         for (size_t n = 0; n < bytes.size(); ++n) {
             write_bytes(cut, data.substr(0, n));
             const std::string error = read_error(cut);
             ASSERT_NE(error.find(cut + ": "), std::string::npos) << n << " bytes: " << error;
             if (n > header) {
-                EXPECT_NE(error.find("(truncated?)"), std::string::npos) << n << " bytes: " << error;
+                EXPECT_NE(error.find("(truncated?)"), std::string::npos)
+                    << n << " bytes: " << error;
             }
         }
         EXPECT_EQ(read_error(good), "");
@@ -581,8 +583,8 @@ TEST(HdrImage, DamagedFilesAreInputErrorsNamingTheFile) {
         write_bytes(path, c.bytes);
         const std::string error = read_error(path);
         EXPECT_NE(error.find(path + ": "), std::string::npos) << error;
-        EXPECT_NE(error.find(c.expected), std::string::npos) << "expected: " << c.expected
-                                                             << "\ngot: " << error;
+        EXPECT_NE(error.find(c.expected), std::string::npos)
+            << "expected: " << c.expected << "\ngot: " << error;
     }
     std::filesystem::remove(path);
 }

@@ -17,10 +17,10 @@
 #include <sstream>
 #include <vector>
 
+#include "06_photon_mapping/photon_mapping.h"
+#include "06_photon_mapping/radius.h"
 #include "image_sources.h"
 #include "io/scene_file.h"
-#include "photon_mapping.h"
-#include "radius.h"
 #include "render_statistics.h"
 #include "test_util.h"
 

@@ -8,13 +8,13 @@
 #include <cstring>
 #include <vector>
 
-#include "density.h"
+#include "06_photon_mapping/density.h"
+#include "06_photon_mapping/kernel.h"
+#include "06_photon_mapping/photon_map.h"
+#include "06_photon_mapping/photons.h"
+#include "06_photon_mapping/radius.h"
 #include "io/scene_file.h"
-#include "kernel.h"
 #include "lights/lights.h"
-#include "photon_map.h"
-#include "photons.h"
-#include "radius.h"
 #include "statistics.h"
 #include "test_util.h"
 

@@ -15,12 +15,12 @@
 #include <functional>
 #include <vector>
 
-#include "bidirectional.h"
-#include "photon_mapping.h"
-#include "ray_casting.h"
-#include "reflection_equation.h"
+#include "01_ray_casting/ray_casting.h"
+#include "03_reflection_equation/reflection_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "05_bidirectional/bidirectional.h"
+#include "06_photon_mapping/photon_mapping.h"
 #include "render_statistics.h"
-#include "rendering_equation.h"
 #include "test_util.h"
 
 using namespace lessons;
@@ -127,14 +127,15 @@ void expect_closed_form_per_pixel(const std::string& name, const Scene& scene,
     const double z = test::z_quantile(test::sidak(0.01, 4 * 3 * scene.width * scene.height));
     for (int y = 0; y < scene.height; ++y)
         for (int x = 0; x < scene.width; ++x) {
-            const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
+            const Ray ray =
+                scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
             const glm::dvec3 want = expected(on_floor(ray));
             const Color got = r.image.at(x, y), var = r.variance.at(x, y);
             for (int c = 0; c < 3; ++c)
                 if (std::fabs(got[c] - want[c]) > 1e-4 * want[c] + 1e-6 + z * std::sqrt(var[c]) &&
                     ++mismatches <= 3)
-                    ADD_FAILURE() << name << ": pixel " << x << "," << y << " channel " << c
-                                  << ": " << got[c] << ", expected " << want[c];
+                    ADD_FAILURE() << name << ": pixel " << x << "," << y << " channel " << c << ": "
+                                  << got[c] << ", expected " << want[c];
         }
     EXPECT_EQ(mismatches, 0) << name;
 }
@@ -176,7 +177,8 @@ TEST(PunctualLights, ASpotGivesRhoOverPiIFalloffCosOverDSquared) {
     int full = 0, fade = 0, dark = 0;
     for (int y = 0; y < scene.height; ++y)
         for (int x = 0; x < scene.width; ++x) {
-            const Ray ray = scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
+            const Ray ray =
+                scene.camera.generate_ray(x + 0.5f, y + 0.5f, scene.width, scene.height);
             const glm::dvec3 d = on_floor(ray) - glm::dvec3(kSpotAt);
             const double c = -d.y / glm::length(d);
             full += c >= spot_cone().cos_inner;
@@ -211,15 +213,15 @@ TEST(PunctualLights, LessonsFiveAndSixAgreeWithTheSunsAndTheSpotsClosedFormsWith
         }
         scene.commit();
         const double expected =
-            sun ? sun_radiance().x : film_mean(scene, [](const glm::dvec3& p) { return spot_radiance(p); });
+            sun ? sun_radiance().x
+                : film_mean(scene, [](const glm::dvec3& p) { return spot_radiance(p); });
         PhotonOptions vcm;
         vcm.radius = 0.05f;
         for (const bool six : {false, true}) {
-            const RenderResult r =
-                six ? render_scene(scene, PhotonMappingModel(scene, vcm), 64,
-                                   test::quiet_settings(12, 1))
-                    : render_scene(scene, BidirectionalModel(scene, {}), 64,
-                                   test::quiet_settings(11, 1));
+            const RenderResult r = six ? render_scene(scene, PhotonMappingModel(scene, vcm), 64,
+                                                      test::quiet_settings(12, 1))
+                                       : render_scene(scene, BidirectionalModel(scene, {}), 64,
+                                                      test::quiet_settings(11, 1));
             const auto [mean, var] = test::image_mean(r.image, r.variance);
             const std::string name =
                 std::string(six ? "lesson 6, " : "lesson 5, ") + (sun ? "the sun" : "the spot");

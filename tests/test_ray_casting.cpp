@@ -4,9 +4,9 @@
 
 #include <glm/vec3.hpp>
 
+#include "01_ray_casting/ray_casting.h"
+#include "driver/app.h"
 #include "io/scene_file.h"
-#include "ray_casting.h"
-#include "render/app.h"
 #include "test_util.h"
 
 using namespace lessons;

@@ -3,9 +3,9 @@
 // five estimators agree with each other on the Cornell box.
 #include <gtest/gtest.h>
 
+#include "03_reflection_equation/reflection_equation.h"
+#include "driver/app.h"
 #include "io/scene_file.h"
-#include "reflection_equation.h"
-#include "render/app.h"
 #include "statistics.h"
 #include "test_util.h"
 
@@ -108,8 +108,7 @@ TEST(ReflectionEquation, TheFiveEstimatorsAgreeOnTheCornellBox) {
         RenderSettings settings;
         settings.progress = false;
         settings.seed = 10 + static_cast<int>(e);
-        const RenderResult r =
-            render_scene(scene, ReflectionModel(scene, options), 256, settings);
+        const RenderResult r = render_scene(scene, ReflectionModel(scene, options), 256, settings);
         double mean = 0.0, variance = 0.0;
         const double n = static_cast<double>(r.image.pixels.size());
         for (size_t i = 0; i < r.image.pixels.size(); ++i) {
@@ -141,7 +140,8 @@ TEST(ReflectionEquation, PointLightsNeedLightSamplingAndTheNotesSaySo) {
     brdf.estimator = Estimator::Brdf;
     std::string notes;
     for (const std::string& n : ReflectionModel(scene, brdf).notes) notes += n + "\n";
-    EXPECT_NE(notes.find("point and directional lights are invisible to the brdf estimator"), std::string::npos)
+    EXPECT_NE(notes.find("point and directional lights are invisible to the brdf estimator"),
+              std::string::npos)
         << notes;
     // With light sampling, a point on the floor lit by the point light gets I cos / d^2 rho / pi
     // (plus the sky): strictly more than the sky alone, which is all the BRDF estimator sees.

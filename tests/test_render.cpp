@@ -2,10 +2,11 @@
 // are split into passes.
 #include <gtest/gtest.h>
 
+#include "01_ray_casting/ray_casting.h"
+#include "driver/app.h"
 #include "io/scene_file.h"
-#include "ray_casting.h"
-#include "render/app.h"
 #include "render/render.h"
+#include "test_util.h"
 
 using namespace lessons;
 
@@ -13,16 +14,16 @@ namespace {
 Image render_with(const Scene& scene, int threads, const std::vector<int>& pass_ends) {
     Film film(scene.width, scene.height);
     // A model that uses the random numbers, so that seeding matters.
-    const RadianceFn radiance = [&scene](const Ray& ray, Rng& rng) {
+    const test::FunctionModel radiance([&scene](const Ray& ray, Rng& rng) {
         return ray_cast(scene, ray, {}) * (0.5f + rng.uniform());
-    };
+    });
     RenderSettings settings;
     settings.threads = threads;
     settings.seed = 1234;
     settings.progress = false;
     int begin = 0;
     for (int end : pass_ends) {
-        render(scene.camera, film, settings, radiance, begin, end);
+        test::render_film(scene.camera, film, settings, radiance, begin, end);
         begin = end;
     }
     return film.mean();
@@ -51,12 +52,12 @@ TEST(Render, DifferentSeedsGiveDifferentNoise) {
     const Scene scene =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {32, 32});
     Film a(32, 32), b(32, 32);
-    const RadianceFn noise = [](const Ray&, Rng& rng) { return Color(rng.uniform()); };
+    const test::FunctionModel noise([](const Ray&, Rng& rng) { return Color(rng.uniform()); });
     RenderSettings s;
     s.progress = false;
-    render(scene.camera, a, s, noise, 0, 1);
+    test::render_film(scene.camera, a, s, noise, 0, 1);
     s.seed = 1;
-    render(scene.camera, b, s, noise, 0, 1);
+    test::render_film(scene.camera, b, s, noise, 0, 1);
     EXPECT_NE(a.mean().pixels[0], b.mean().pixels[0]);
 }
 

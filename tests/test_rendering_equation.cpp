@@ -2,11 +2,11 @@
 // Russian roulette, MIS against the plain estimator, and lesson 3 against lesson 4's bounces.
 #include <gtest/gtest.h>
 
+#include "03_reflection_equation/reflection_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "driver/app.h"
 #include "io/scene_file.h"
-#include "reflection_equation.h"
-#include "render/app.h"
 #include "render_statistics.h"
-#include "rendering_equation.h"
 #include "test_util.h"
 
 using namespace lessons;
@@ -43,7 +43,6 @@ test::MeanAndError estimate(const Scene& scene, const Ray& ray, const PathOption
     return test::mean_and_error(values);
 }
 
-
 // Two renders of one scene by lesson 4 with other options, sample counts and seeds.
 std::pair<RenderResult, RenderResult> render_both(const Scene& scene, const PathOptions& a,
                                                   int spp_a, const PathOptions& b, int spp_b,
@@ -52,11 +51,9 @@ std::pair<RenderResult, RenderResult> render_both(const Scene& scene, const Path
     RenderSettings settings;
     settings.progress = false;
     settings.seed = seed;
-    RenderResult first =
-        render_scene(scene, PathTracingModel(scene, a), spp_a, settings);
+    RenderResult first = render_scene(scene, PathTracingModel(scene, a), spp_a, settings);
     settings.seed = seed + 1;
-    RenderResult second =
-        render_scene(scene, PathTracingModel(scene, b), spp_b, settings);
+    RenderResult second = render_scene(scene, PathTracingModel(scene, b), spp_b, settings);
     return {std::move(first), std::move(second)};
 }
 
@@ -113,11 +110,9 @@ TEST(RenderingEquation, RussianRouletteChangesTheVarianceNotTheMean) {
     with.roulette_after = 0;
     without.roulette_after = -1;
     settings.seed = 1;
-    const RenderResult a =
-        render_scene(scene, PathTracingModel(scene, with), 128, settings);
+    const RenderResult a = render_scene(scene, PathTracingModel(scene, with), 128, settings);
     settings.seed = 2;
-    const RenderResult b =
-        render_scene(scene, PathTracingModel(scene, without), 128, settings);
+    const RenderResult b = render_scene(scene, PathTracingModel(scene, without), 128, settings);
     const auto [ma, va] = image_mean(a.image, a.variance);
     const auto [mb, vb] = image_mean(b.image, b.variance);
     EXPECT_LT(std::fabs(ma - mb) / std::sqrt(va + vb), test::z_quantile(kSignificance))
@@ -152,8 +147,8 @@ TEST(RenderingEquation, LessonThreeEqualsEmissionPlusTheFirstBounce) {
     RenderSettings settings;
     settings.progress = false;
     settings.seed = 5;
-    const RenderResult direct = render_scene(
-        scene, ReflectionModel(scene, ReflectionOptions{}), 256, settings);
+    const RenderResult direct =
+        render_scene(scene, ReflectionModel(scene, ReflectionOptions{}), 256, settings);
     PathOptions layered;
     layered.bounce_layers = 2;
     settings.seed = 6;
@@ -181,25 +176,26 @@ TEST(RenderingEquation, TheStratifiedSamplersAreUnbiased) {
     // z-test runs over pixels.
     const Ray ray{Vec3(0.1f, -0.2f, 0.0f), glm::normalize(Vec3(0.3f, 0.4f, 1.0f))};
     for (const bool sobol : {false, true})
-    for (float rho : {0.5f, 0.8f}) {
-        const Scene scene = test::furnace(rho, 1.0f);
-        const LightSampler lights(scene);
-        for (const Strategies& strategies : kStrategies) {
-            const PathOptions options = strategies.options();
-            std::vector<double> pixel_means;
-            for (uint64_t pixel = 0; pixel < 4000; ++pixel) {
-                double sum = 0.0;
-                for (uint64_t s = 0; s < 8; ++s) {
-                    Rng rng = sobol ? Rng::sobol(11, pixel, s) : Rng::kronecker(11, pixel, s);
-                    sum += path_trace(scene, lights, ray, rng, options).x;
+        for (float rho : {0.5f, 0.8f}) {
+            const Scene scene = test::furnace(rho, 1.0f);
+            const LightSampler lights(scene);
+            for (const Strategies& strategies : kStrategies) {
+                const PathOptions options = strategies.options();
+                std::vector<double> pixel_means;
+                for (uint64_t pixel = 0; pixel < 4000; ++pixel) {
+                    double sum = 0.0;
+                    for (uint64_t s = 0; s < 8; ++s) {
+                        Rng rng = sobol ? Rng::sobol(11, pixel, s) : Rng::kronecker(11, pixel, s);
+                        sum += path_trace(scene, lights, ray, rng, options).x;
+                    }
+                    pixel_means.push_back(sum / 8.0);
                 }
-                pixel_means.push_back(sum / 8.0);
+                const auto [mean, se] = test::mean_and_error(pixel_means);
+                EXPECT_NEAR(mean, 1.0 / (1.0 - rho), test::z_quantile(kSignificance) * se + 1e-5)
+                    << "rho " << rho << " with " << strategies.name
+                    << (sobol ? ", sobol" : ", kronecker");
             }
-            const auto [mean, se] = test::mean_and_error(pixel_means);
-            EXPECT_NEAR(mean, 1.0 / (1.0 - rho), test::z_quantile(kSignificance) * se + 1e-5)
-                << "rho " << rho << " with " << strategies.name << (sobol ? ", sobol" : ", kronecker");
         }
-    }
 }
 
 TEST(RenderingEquation, ClampedBounceLayersStillAddUpToTheImage) {
@@ -213,8 +209,7 @@ TEST(RenderingEquation, ClampedBounceLayersStillAddUpToTheImage) {
     RenderSettings settings;
     settings.progress = false;
     settings.clamp = 0.5f;
-    const RenderResult r =
-        render_scene(scene, PathTracingModel(scene, layered), 64, settings);
+    const RenderResult r = render_scene(scene, PathTracingModel(scene, layered), 64, settings);
     ASSERT_GT(r.clamped_samples, 0u);
     for (size_t i = 0; i < r.image.pixels.size(); ++i) {
         float sum = 0.0f;

@@ -6,11 +6,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "01_ray_casting/ray_casting.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/mesh_file.h"
 #include "io/scene_file.h"
-#include "ray_casting.h"
 #include "render/progressive.h"
 #include "scene/environment.h"
 
@@ -418,7 +418,8 @@ material = "grey"
 center = [0, 0, 0]
 radius = 1
 [background]
-map = ")" + map + R"("
+map = ")" + map +
+           R"("
 rotate = 20
 strength = 1.5
 )";

@@ -27,9 +27,9 @@
 #include <string>
 
 #include "all_lessons.h"
+#include "driver/app.h"
+#include "farm/part.h"
 #include "render/agreement.h"
-#include "render/app.h"
-#include "render/part.h"
 
 using namespace lessons;
 

@@ -10,11 +10,11 @@
 #include <fstream>
 #include <iterator>
 
+#include "01_ray_casting/ray_casting.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
 #include "io/texture.h"
-#include "ray_casting.h"
 #include "render/progressive.h"
 
 using namespace lessons;
@@ -116,8 +116,7 @@ TEST(Texture, AFlatTextureRendersExactlyAsTheSameColour) {
     RenderSettings settings;
     settings.threads = 1;
     settings.progress = false;
-    const RenderResult a =
-        render_scene(textured, RayCastingModel(textured, {}), 2, settings);
+    const RenderResult a = render_scene(textured, RayCastingModel(textured, {}), 2, settings);
     const RenderResult b = render_scene(plain, RayCastingModel(plain, {}), 2, settings);
     int lit = 0;
     for (size_t i = 0; i < a.image.pixels.size(); ++i) {
@@ -191,8 +190,8 @@ TEST(Texture, HdrTexturesAreLinearAndTheirTexelsChecked) {
     const std::string cut = scratch("cut.hdr");
     std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() - 3);
     try {
-        build_scene(parse_scene_string(scene_with_albedo("{ texture = \"" + cut + "\" }"),
-                                       "cut.toml"));
+        build_scene(
+            parse_scene_string(scene_with_albedo("{ texture = \"" + cut + "\" }"), "cut.toml"));
         ADD_FAILURE() << "accepted";
     } catch (const InputError& e) {
         const std::string what = e.what();
@@ -209,12 +208,14 @@ TEST(Texture, ObjMapKdBecomesTheAlbedoTexture) {
     std::filesystem::create_directories(dir);
     write_png_bytes(dir + "/wood.png", 2, 2, std::vector<uint8_t>(12, 200));
     std::FILE* mtl = std::fopen((dir + "/wood.mtl").c_str(), "w");
-    std::fprintf(mtl, "newmtl wood\nKd 0.8 0.8 0.8\nmap_Kd wood.png\n"
-                      "newmtl wood2\nKd 0.5 0.5 0.5\nmap_Kd wood.png\n");
+    std::fprintf(mtl,
+                 "newmtl wood\nKd 0.8 0.8 0.8\nmap_Kd wood.png\n"
+                 "newmtl wood2\nKd 0.5 0.5 0.5\nmap_Kd wood.png\n");
     std::fclose(mtl);
     std::FILE* obj = std::fopen((dir + "/plank.obj").c_str(), "w");
-    std::fprintf(obj, "mtllib wood.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\n"
-                      "vt 0 1\nusemtl wood\nf 1/1 2/2 3/3\nusemtl wood2\nf 2/2 4/1 3/3\n");
+    std::fprintf(obj,
+                 "mtllib wood.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\n"
+                 "vt 0 1\nusemtl wood\nf 1/1 2/2 3/3\nusemtl wood2\nf 2/2 4/1 3/3\n");
     std::fclose(obj);
     const std::string text = scene_with_albedo("[0.5, 0.5, 0.5]") +
                              "[[shapes]]\ntype = \"mesh\"\nfile = \"" + dir + "/plank.obj\"\n";

@@ -10,6 +10,7 @@
 #include "io/input_error.h"
 #include "io/scene_file.h"
 #include "render/render.h"
+#include "test_util.h"
 
 using namespace lessons;
 
@@ -60,15 +61,13 @@ Image render_geometry(const Scene& scene) {
     settings.threads = 1;
     settings.progress = false;
     Film film(scene.width, scene.height);
-    render(
-        scene.camera, film, settings,
-        [&](const Ray& ray, Rng&) {
-            const std::optional<Hit> hit = scene.intersect(ray);
-            if (!hit) return Color(0.0f);
-            const SurfaceInteraction si = scene.interaction(ray, *hit);
-            return Color(si.t, si.front ? 1.0f : 0.0f, glm::dot(si.n_geo, si.wo));
-        },
-        0, 2);
+    const test::FunctionModel geometry([&](const Ray& ray, Rng&) {
+        const std::optional<Hit> hit = scene.intersect(ray);
+        if (!hit) return Color(0.0f);
+        const SurfaceInteraction si = scene.interaction(ray, *hit);
+        return Color(si.t, si.front ? 1.0f : 0.0f, glm::dot(si.n_geo, si.wo));
+    });
+    test::render_film(scene.camera, film, settings, geometry, 0, 2);
     return film.mean();
 }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <glm/vec3.hpp>
 #include <memory>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "render/render.h"
@@ -22,6 +24,27 @@ inline RenderSettings quiet_settings(uint64_t seed, int threads = 0) {
     settings.seed = seed;
     settings.threads = threads;
     return settings;
+}
+
+// A model made of a function of the primary ray and its random numbers, fn(ray, rng): a test's
+// own radiance through the render loop (it neither splats nor renders in passes).
+template <class Fn>
+class FunctionModel final : public Model {
+public:
+    explicit FunctionModel(Fn fn) : fn_(std::move(fn)) {}
+    Color sample(const Ray& ray, Rng& rng, uint32_t, std::span<Color>,
+                 std::vector<Splat>&) const override {
+        return fn_(ray, rng);
+    }
+
+private:
+    Fn fn_;
+};
+
+// Renders samples [begin, end) of every pixel of `film` (the image only) with `model`.
+inline RenderStats render_film(const Camera& camera, Film& film, const RenderSettings& settings,
+                               const Model& model, int begin, int end) {
+    return render(camera, std::span<Film>(&film, 1), settings, model, begin, end);
 }
 
 // Calls fn(x, y, ray) for the ray through the center of every pixel of a width x height image,

@@ -8,13 +8,13 @@
 #include <cstring>
 #include <vector>
 
-#include "bidirectional.h"
+#include "05_bidirectional/bidirectional.h"
+#include "05_bidirectional/mis.h"
+#include "06_photon_mapping/photon_mapping.h"
+#include "06_photon_mapping/radius.h"
 #include "given_paths.h"
 #include "image_sources.h"
 #include "io/scene_file.h"
-#include "mis.h"
-#include "photon_mapping.h"
-#include "radius.h"
 #include "render_statistics.h"
 #include "test_util.h"
 
@@ -142,9 +142,9 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
     const double cos_inner = cos_outer + 0.3 * (1.0 - cos_outer);
     const double spot = 3.0 * 2.0 * kPi * ((1.0 - cos_inner) + 0.5 * (cos_inner - cos_outer));
     const double sun = 1.5 * kPi * lights.beam_radius() * lights.beam_radius();
-    const double ceiling_choice =
-        5.0 * kPi / (5.0 * kPi + kPi * 4.0 * kPi * 0.04 * 3.0 + 2.0 * kPi * 0.36 * 2.0 +
-                     4.0 * kPi * 2.0 + spot + sun);
+    const double ceiling_choice = 5.0 * kPi /
+                                  (5.0 * kPi + kPi * 4.0 * kPi * 0.04 * 3.0 +
+                                   2.0 * kPi * 0.36 * 2.0 + 4.0 * kPi * 2.0 + spot + sun);
     expect_joins_and_merges_sum_to_one(b, caustics, etas);
     for (const double eta : etas) {
         for (int k = 0; k < 2; ++k) {  // the point light's: the merge at the floor alone
@@ -205,7 +205,8 @@ TEST(Vcm, AWeighedPhotonGivesItsMergeTheWeightThatSumsToOneWithTheJoins) {
             const int n = static_cast<int>(path.points.size()) + 2;
             for (int j = 1; j <= n - 2; ++j) {
                 const int t = n - j;
-                const std::span<const Vertex> camera = std::span<const Vertex>(sub->camera).first(t);
+                const std::span<const Vertex> camera =
+                    std::span<const Vertex>(sub->camera).first(t);
                 if (camera[t - 1].bsdf->is_delta()) continue;  // no photon is left there
                 const std::span<const Vertex> light = std::span<const Vertex>(sub->light).first(j);
                 const Vertex& landed = sub->light[j];

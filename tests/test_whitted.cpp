@@ -2,12 +2,12 @@
 // recursion limits.
 #include <gtest/gtest.h>
 
+#include "01_ray_casting/ray_casting.h"
+#include "02_whitted/whitted.h"
+#include "driver/app.h"
 #include "io/scene_file.h"
 #include "materials/optics.h"
-#include "ray_casting.h"
-#include "render/app.h"
 #include "test_util.h"
-#include "whitted.h"
 
 using namespace lessons;
 

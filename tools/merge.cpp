@@ -23,10 +23,10 @@
 #include <string>
 #include <vector>
 
+#include "farm/merge_parts.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/report.h"
-#include "render/merge.h"
 #include "render/metrics.h"
 
 using namespace lessons;
@@ -258,15 +258,13 @@ int status(const Options& o) {
 
 int run(const Options& o) {
     if (o.status) return status(o);
-    if (o.out.empty())
-        throw InputError("command line", 0, "--out", "is needed (or --status)");
+    if (o.out.empty()) throw InputError("command line", 0, "--out", "is needed (or --status)");
     std::vector<PartFile> parts;
     for (const std::string& path : o.parts) parts.push_back(read_part(path, false));
     check_parts_agree(parts);
     check_parts_disjoint(parts);
     const Coverage c = part_coverage(parts, o.spp);
-    if (c.target == 0)
-        throw InputError("command line", 0, "PARTS", "the parts hold no samples");
+    if (c.target == 0) throw InputError("command line", 0, "PARTS", "the parts hold no samples");
     if (!c.beyond.empty())
         throw InputError("command line", 0, "--spp",
                          c.beyond[0] + ": leave it out, or merge without --spp");
@@ -288,9 +286,10 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app("merge: joins parts of a render (a lesson's --samples/--pixels EXRs) into the "
-                 "whole render, bit for bit the single run's (docs/farm.md)",
-                 "merge");
+    CLI::App app(
+        "merge: joins parts of a render (a lesson's --samples/--pixels EXRs) into the "
+        "whole render, bit for bit the single run's (docs/farm.md)",
+        "merge");
     Options o;
     app.add_option("parts", o.parts, "The part EXRs")->required();
     app.add_option("--out", o.out, "Output prefix: PREFIX.exr, PREFIX.png, PREFIX.json");

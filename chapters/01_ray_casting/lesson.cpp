@@ -1,10 +1,11 @@
 // Lesson 1: ray casting, as a lesson: its one flag, and the model it makes for a scene.
+#include "driver/lesson.h"
+
 #include <CLI/CLI.hpp>
 
-#include "ambient_flag.h"
+#include "01_ray_casting/ambient_flag.h"
+#include "01_ray_casting/ray_casting.h"
 #include "io/input_error.h"
-#include "ray_casting.h"
-#include "render/lesson.h"
 
 namespace lessons {
 

@@ -1,5 +1,5 @@
 // Lesson 1: ray casting (see ray_casting.h for the model's equation).
-#include "ray_casting.h"
+#include "01_ray_casting/ray_casting.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,7 +61,8 @@ std::optional<Incident> incident(const Scene& scene, LightRef light, const Surfa
         case LightKind::Point: {
             const PointLight& l = scene.point_lights()[light.index];
             // A spot sends its intensity only within its cone.
-            return from_point(si, l.position, l.intensity_towards(glm::normalize(si.p - l.position)),
+            return from_point(si, l.position,
+                              l.intensity_towards(glm::normalize(si.p - l.position)),
                               {l.position, Vec3(0.0f), Vec3(0.0f)}, std::nullopt);
         }
         case LightKind::Directional: {  // the same E everywhere, from one direction
@@ -206,7 +207,8 @@ RayCastingModel::RayCastingModel(const Scene& scene, const RayCastingOptions& op
         notes.push_back("the scene has no lights: only emission, ambient and background");
 }
 
-Color RayCastingModel::sample(const Ray& ray, Rng&, std::span<Color>, std::vector<Splat>&) const {
+Color RayCastingModel::sample(const Ray& ray, Rng&, uint32_t, std::span<Color>,
+                              std::vector<Splat>&) const {
     return ray_cast(scene_, ray, options_);
 }
 

@@ -54,7 +54,7 @@ Color ray_cast(const Scene& scene, const Ray& ray, const RayCastingOptions& opti
 class RayCastingModel final : public Model {
 public:
     RayCastingModel(const Scene& scene, const RayCastingOptions& options);
-    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
 
 private:

@@ -1,10 +1,11 @@
 // Lesson 2: Whitted-style ray tracing, as a lesson: its flags, and the model it makes.
+#include "driver/lesson.h"
+
 #include <CLI/CLI.hpp>
 
-#include "ambient_flag.h"
-#include "render/choice_flag.h"
-#include "render/lesson.h"
-#include "whitted.h"
+#include "01_ray_casting/ambient_flag.h"
+#include "02_whitted/whitted.h"
+#include "driver/choice_flag.h"
 
 namespace lessons {
 

@@ -1,5 +1,5 @@
 // Lesson 2: Whitted-style recursive ray tracing (see whitted.h for the model's equations).
-#include "whitted.h"
+#include "02_whitted/whitted.h"
 
 #include <cstdio>
 
@@ -81,7 +81,7 @@ WhittedModel::WhittedModel(const Scene& scene, const WhittedOptions& options)
     notes.push_back(limits);
     if (!scene.area_lights().empty())
         notes.push_back(area_lights_as_points_note(scene) +
-                              "; seen directly and in mirrors as surfaces");
+                        "; seen directly and in mirrors as surfaces");
     for (const Material& m : scene.materials())
         if (facts_of(m.type).lobe) notes.push_back(glossy_as_highlight_note(m));
     bool has_glass = false, has_specular = false;
@@ -91,9 +91,9 @@ WhittedModel::WhittedModel(const Scene& scene, const WhittedOptions& options)
     }
     if (has_glass)
         notes.push_back(std::string("glass: ") +
-                              (options.schlick ? "Schlick's approximation" : "exact Fresnel") +
-                              "; shadow rays are blocked by glass like by any surface (no "
-                              "caustics)");
+                        (options.schlick ? "Schlick's approximation" : "exact Fresnel") +
+                        "; shadow rays are blocked by glass like by any surface (no "
+                        "caustics)");
     if (!has_specular)
         notes.push_back("no mirror or glass in this scene: the image equals lesson 1's");
     notes.push_back(ambient_note(options.ambient));
@@ -111,7 +111,8 @@ WhittedModel::WhittedModel(const Scene& scene, const WhittedOptions& options)
         "(colour bleeding) and light focused by mirrors and glass (caustics) are missing");
 }
 
-Color WhittedModel::sample(const Ray& ray, Rng&, std::span<Color>, std::vector<Splat>&) const {
+Color WhittedModel::sample(const Ray& ray, Rng&, uint32_t, std::span<Color>,
+                           std::vector<Splat>&) const {
     return whitted(scene_, ray, options_);
 }
 

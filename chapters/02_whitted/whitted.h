@@ -14,7 +14,7 @@
 // ray contributes nothing.
 #pragma once
 
-#include "ray_casting.h"
+#include "01_ray_casting/ray_casting.h"
 #include "render/model.h"
 #include "scene/scene.h"
 
@@ -37,7 +37,7 @@ Color whitted(const Scene& scene, const Ray& ray, const WhittedOptions& options,
 class WhittedModel final : public Model {
 public:
     WhittedModel(const Scene& scene, const WhittedOptions& options);
-    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
 
 private:

@@ -1,9 +1,10 @@
 // Lesson 3: the reflection equation, as a lesson: its flags (the estimator), and the model.
+#include "driver/lesson.h"
+
 #include <CLI/CLI.hpp>
 
-#include "reflection_equation.h"
-#include "render/choice_flag.h"
-#include "render/lesson.h"
+#include "03_reflection_equation/reflection_equation.h"
+#include "driver/choice_flag.h"
 
 namespace lessons {
 
@@ -17,10 +18,10 @@ struct ReflectionFlags {
                         Choices<Estimator>(std::begin(kEstimatorNames), std::end(kEstimatorNames)),
                         "How directions are sampled: uniform (hemisphere), cosine, brdf, light, "
                         "or mis (light and BRDF samples combined)");
-        add_choice_flag<MisHeuristic>(app, "--mis-heuristic", options.heuristic,
-                                      {{"power", MisHeuristic::Power},
-                                       {"balance", MisHeuristic::Balance}},
-                                      "MIS weights: power or balance");
+        add_choice_flag<MisHeuristic>(
+            app, "--mis-heuristic", options.heuristic,
+            {{"power", MisHeuristic::Power}, {"balance", MisHeuristic::Balance}},
+            "MIS weights: power or balance");
     }
     std::unique_ptr<Model> make_model(const Scene& scene) const {
         return std::make_unique<ReflectionModel>(scene, options);

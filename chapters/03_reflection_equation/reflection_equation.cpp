@@ -1,5 +1,5 @@
 // Lesson 3: the reflection equation by Monte Carlo (see reflection_equation.h).
-#include "reflection_equation.h"
+#include "03_reflection_equation/reflection_equation.h"
 
 #include "materials/bsdf.h"
 #include "sampling/sampling.h"
@@ -134,8 +134,7 @@ ReflectionModel::ReflectionModel(const Scene& scene, const ReflectionOptions& op
             " estimator: a sampled direction never hits a point, nor is it ever one exact "
             "direction (use light or mis)");
     bool delta = false;
-    for (const Material& m : scene.materials())
-        delta |= facts_of(m.type).delta;
+    for (const Material& m : scene.materials()) delta |= facts_of(m.type).delta;
     if (delta)
         notes.push_back(
             "mirror and glass: one BSDF-sampled direction, whatever the estimator (a delta "
@@ -143,7 +142,7 @@ ReflectionModel::ReflectionModel(const Scene& scene, const ReflectionOptions& op
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }
 
-Color ReflectionModel::sample(const Ray& ray, Rng& rng, std::span<Color>,
+Color ReflectionModel::sample(const Ray& ray, Rng& rng, uint32_t, std::span<Color>,
                               std::vector<Splat>&) const {
     return reflection_equation(scene_, lights_, ray, rng, options_);
 }

@@ -34,8 +34,11 @@ struct ReflectionOptions {
 
 // The estimators by name, in the lecture's order (the --estimator flag offers them so).
 inline constexpr std::pair<const char*, Estimator> kEstimatorNames[] = {
-    {"uniform", Estimator::Uniform}, {"cosine", Estimator::Cosine}, {"brdf", Estimator::Brdf},
-    {"light", Estimator::Light},     {"mis", Estimator::Mis}};
+    {"uniform", Estimator::Uniform},
+    {"cosine", Estimator::Cosine},
+    {"brdf", Estimator::Brdf},
+    {"light", Estimator::Light},
+    {"mis", Estimator::Mis}};
 const char* estimator_name(Estimator e);
 
 // One light sample of the reflection equation at `si`: f L cos / p_light towards a point chosen
@@ -55,7 +58,7 @@ Color reflection_equation(const Scene& scene, const LightSampler& lights, const 
 class ReflectionModel final : public Model {
 public:
     ReflectionModel(const Scene& scene, const ReflectionOptions& options);
-    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
 
 private:

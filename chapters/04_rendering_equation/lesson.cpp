@@ -1,10 +1,11 @@
 // Lesson 4: the rendering equation, as a lesson: its flags (plain or NEE, path length, bounce
 // layers), and the model.
+#include "driver/lesson.h"
+
 #include <CLI/CLI.hpp>
 
-#include "path_length_flags.h"
-#include "render/lesson.h"
-#include "rendering_equation.h"
+#include "04_rendering_equation/path_length_flags.h"
+#include "04_rendering_equation/rendering_equation.h"
 
 namespace lessons {
 

@@ -1,9 +1,9 @@
 // Lesson 4: path tracing the rendering equation (see rendering_equation.h).
-#include "rendering_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
 
 #include <algorithm>
 
-#include "reflection_equation.h"
+#include "03_reflection_equation/reflection_equation.h"
 #include "sampling/sampling.h"
 
 namespace lessons {
@@ -99,10 +99,10 @@ PathTracingModel::PathTracingModel(const Scene& scene, const PathOptions& option
         layer_names.push_back("bounce" + std::to_string(options.bounce_layers) + "plus");
     }
     notes.push_back(options.next_event
-                              ? "estimator: next-event estimation with BSDF sampling, combined by "
-                                "MIS (power heuristic)"
-                              : "estimator: plain path tracing, BSDF sampling only (no next-event "
-                                "estimation)");
+                        ? "estimator: next-event estimation with BSDF sampling, combined by "
+                          "MIS (power heuristic)"
+                        : "estimator: plain path tracing, BSDF sampling only (no next-event "
+                          "estimation)");
     const SceneContents contents = scene.contents();
     if (!options.next_event && lights_.has_delta_lights())
         biased_because.push_back(
@@ -127,7 +127,7 @@ PathTracingModel::PathTracingModel(const Scene& scene, const PathOptions& option
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }
 
-Color PathTracingModel::sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+Color PathTracingModel::sample(const Ray& ray, Rng& rng, uint32_t, std::span<Color> layers,
                                std::vector<Splat>&) const {
     return path_trace(scene_, lights_, ray, rng, options_, layers);
 }

@@ -70,7 +70,7 @@ Color path_trace(const Scene& scene, const LightSampler& lights, const Ray& ray,
 class PathTracingModel final : public Model {
 public:
     PathTracingModel(const Scene& scene, const PathOptions& options);
-    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
 
 private:

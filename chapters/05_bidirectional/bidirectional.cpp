@@ -1,5 +1,5 @@
 // Lesson 5: bidirectional path tracing (see bidirectional.h).
-#include "bidirectional.h"
+#include "05_bidirectional/bidirectional.h"
 
 namespace lessons {
 
@@ -45,13 +45,13 @@ BidirectionalModel::BidirectionalModel(const Scene& scene, const BidirOptions& o
     : lights_(scene),
       b_{scene, lights_, scene.camera, scene.width, scene.height},
       options_(options) {
+    passes = true;  // a pass's splats land in a fixed order (render/render.h)
     splats = true;
     if (options.strategy_layers > 0) {
         const int N = options.strategy_layers;
         for (int k = 1; k <= N; ++k)
             for (int s = 0; s <= k; ++s)
-                layer_names.push_back("s" + std::to_string(s) + "_t" +
-                                            std::to_string(k + 1 - s));
+                layer_names.push_back("s" + std::to_string(s) + "_t" + std::to_string(k + 1 - s));
         layer_names.push_back("segments" + std::to_string(N + 1) + "plus");
     }
     const SceneContents contents = scene.contents();
@@ -73,24 +73,25 @@ BidirectionalModel::BidirectionalModel(const Scene& scene, const BidirOptions& o
     }
     if (options.strategy_layers > 0)
         notes.push_back(std::string("strategy layers s{S}_t{T}") +
-                              (options.unweighted_layers
-                                   ? ", unweighted: each alone estimates every path it can make "
-                                     "(they do not add up to the image)"
-                                   : ", weighted: they add up to the image"));
+                        (options.unweighted_layers
+                             ? ", unweighted: each alone estimates every path it can make "
+                               "(they do not add up to the image)"
+                             : ", weighted: they add up to the image"));
     if (contents.environment && !options.light_tracing)
         notes.push_back(
             "the sky starts no light subpaths: its light is found by camera paths that escape "
             "(s = 0) and by light samples (s = 1), as in lesson 4");
     if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
-            "a point or directional light seen in a mirror or through glass is missing, and so is its caustic "
+            "a point or directional light seen in a mirror or through glass is missing, and so is "
+            "its caustic "
             "seen that way: a delta BSDF next to each end of the path leaves no strategy to join "
             "them (the caustic seen directly is found)");
     add_path_length_notes(*this, options.max_depth, options.roulette_after);  // both subpaths
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }
 
-Color BidirectionalModel::sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+Color BidirectionalModel::sample(const Ray& ray, Rng& rng, uint32_t, std::span<Color> layers,
                                  std::vector<Splat>& splats) const {
     return bidirectional(b_, ray, rng, options_, layers, splats);
 }

@@ -20,10 +20,10 @@
 #include <span>
 #include <vector>
 
-#include "connect.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "05_bidirectional/connect.h"
 #include "lights/lights.h"
 #include "render/model.h"
-#include "rendering_equation.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -66,7 +66,7 @@ Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
 class BidirectionalModel final : public Model {
 public:
     BidirectionalModel(const Scene& scene, const BidirOptions& options);
-    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
 
 private:

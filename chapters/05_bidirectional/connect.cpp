@@ -1,9 +1,9 @@
 // Lesson 5, section 2: the four kinds of join (see connect.h).
-#include "connect.h"
+#include "05_bidirectional/connect.h"
 
 #include <cmath>
 
-#include "mis.h"
+#include "05_bidirectional/mis.h"
 
 namespace lessons {
 
@@ -36,7 +36,7 @@ Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
         light.directional = true;
         light.light_index = ls->light_index;
         light.pdf_fwd = ls->pdf;  // its choice probability
-    } else if (ls->is_delta) {  // a point light
+    } else if (ls->is_delta) {    // a point light
         light.p = z.p + ls->distance * ls->wi;
         light.point_light = true;
         light.light_index = ls->light_index;

@@ -13,7 +13,7 @@
 #include <optional>
 #include <span>
 
-#include "subpaths.h"
+#include "05_bidirectional/subpaths.h"
 
 namespace lessons {
 

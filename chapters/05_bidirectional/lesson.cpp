@@ -1,11 +1,12 @@
 // Lesson 5: bidirectional path tracing, as a lesson: its flags (path length, strategy images,
 // light tracing alone), and the model.
+#include "driver/lesson.h"
+
 #include <CLI/CLI.hpp>
 
-#include "bidirectional.h"
+#include "04_rendering_equation/path_length_flags.h"
+#include "05_bidirectional/bidirectional.h"
 #include "io/input_error.h"
-#include "path_length_flags.h"
-#include "render/lesson.h"
 
 namespace lessons {
 

@@ -1,5 +1,5 @@
 // Lesson 5, section 3: the MIS weights of the strategies (see mis.h).
-#include "mis.h"
+#include "05_bidirectional/mis.h"
 
 #include <cmath>
 #include <vector>
@@ -150,8 +150,8 @@ void technique_densities(const Bidir& b, const TechniquePath& x, std::vector<Ver
     const Vertex& p = x(s);
     // p and x_{s+1} from the light side. When s = 0, p is on a light: the light subpath would
     // have started there.
-    d[s].from_light = q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p)
-                        : light_origin_density(b, p);
+    d[s].from_light =
+        q ? density_towards(b, *q, s > 1 ? &x(s - 2) : nullptr, p) : light_origin_density(b, p);
     if (t > 1)
         d[s + 1].from_light =
             q ? density_towards(b, p, q, x(s + 1)) : light_emission_density(b, p, x(s + 1));
@@ -165,10 +165,10 @@ void technique_densities(const Bidir& b, const TechniquePath& x, std::vector<Ver
 }
 
 // x_0 is made differently by different techniques (Veach 1997, 10.2.2): strategy 0's camera path
-// hits it (no camera path hits a point or directional light: 0); strategy 1's light sample picks it (lesson 3's
-// density, by solid angle where it can; for a lamp seen directly, n = 2, strategy 1 is light
-// tracing and starts there); every other strategy starts its light subpath there (the sky starts
-// none: 0), and so does every merge.
+// hits it (no camera path hits a point or directional light: 0); strategy 1's light sample picks it
+// (lesson 3's density, by solid angle where it can; for a lamp seen directly, n = 2, strategy 1 is
+// light tracing and starts there); every other strategy starts its light subpath there (the sky
+// starts none: 0), and so does every merge.
 struct FirstVertex {
     double hit = 0.0, sampled = 0.0, started = 0.0;
     FirstVertex(const Vertex& x0, const VertexDensities& d0, int n)
@@ -245,8 +245,8 @@ float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
 // first the light side's density of scattering at x_s towards x_{s+1}. Each half is computed
 // with that density 1 (per steradian), and the two densities are put in per photon.
 
-MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light,
-                                const Vertex& photon, double eta) {
+MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light, const Vertex& photon,
+                                double eta) {
     const int s = static_cast<int>(light.size());  // the photon is x_s
     MergeLightSide side;
     if (s < 1 || !(eta > 0.0)) return side;
@@ -262,7 +262,8 @@ MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light,
     // x_0's densities (a light sample at x_s picks it for strategy 1).
     FirstVertex x0_density(light[0], d[0], s + 2);
     if (s == 1) x0_density.sampled = light_sample_density(b, light[0], photon);
-    const double merged = x0_density.started * eta * d[s].from_light;  // p_merge(s) / p_s, times own
+    const double merged =
+        x0_density.started * eta * d[s].from_light;  // p_merge(s) / p_s, times own
     if (!(merged > 0.0) || !std::isfinite(merged)) return side;
     double sum = 0.0;
     towards_light(

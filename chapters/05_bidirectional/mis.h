@@ -31,7 +31,7 @@
 
 #include <span>
 
-#include "subpaths.h"
+#include "05_bidirectional/subpaths.h"
 
 namespace lessons {
 
@@ -95,8 +95,8 @@ struct MergeCameraSide {
     bool possible() const { return towards_camera != Vec3(0.0f); }
 };
 // light: y_0 .. y_{s-1}; photon: y_s.
-MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light,
-                                const Vertex& photon, double merge_eta);
+MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light, const Vertex& photon,
+                                double merge_eta);
 MergeCameraSide merge_camera_side(std::span<const Vertex> camera, int t, double merge_eta);
 float merge_weight(const MergeLightSide& light, const MergeCameraSide& camera, double reverse,
                    double forward);

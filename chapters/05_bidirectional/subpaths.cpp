@@ -1,10 +1,10 @@
 // Lesson 5, section 1: camera and light subpaths (see subpaths.h).
-#include "subpaths.h"
+#include "05_bidirectional/subpaths.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "rendering_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
 #include "sampling/sampling.h"
 
 namespace lessons {
@@ -33,7 +33,7 @@ glm::ivec2 pixel_at(const Bidir& b, const Vec2& raster) {
 }
 
 float light_origin_density(const Bidir& b, const Vertex& v) {
-    if (v.infinite) return b.lights.environment_pdf(v.p);  // its direction
+    if (v.infinite) return b.lights.environment_pdf(v.p);                  // its direction
     if (v.type == VertexType::Light && v.delta_light()) return v.pdf_fwd;  // set when sampled
     const std::optional<PrimRef> prim = v.primitive();
     return prim ? b.lights.emission_pdf(*prim, v.n, v.n).area : 0.0f;
@@ -84,8 +84,7 @@ namespace {
 // Light arrives at v from si.wo and leaves along w. With a shading normal n_s other than the
 // geometric n_g, f |w . n_s| (what the camera side uses) is not its own adjoint; the light side
 // needs f |wo . n_s| |w . n_g| / |wo . n_g| instead: this factor times |w . n_s|.
-float adjoint_shading_correction(const Bidir& b, const Bsdf& bsdf, const Vertex& v,
-                                 const Vec3& w) {
+float adjoint_shading_correction(const Bidir& b, const Bsdf& bsdf, const Vertex& v, const Vec3& w) {
     if (b.scene.naive.no_adjoint_correction) return 1.0f;  // --naive adjoint: to see it fail
     const Vec3& wo = v.si.wo;
     const float num = bsdf.abs_cos(wo) * std::fabs(glm::dot(w, v.si.n_geo));
@@ -361,8 +360,8 @@ std::string light_subpath_along(const Bidir& b, const Vertex& light, std::span<c
     // A directional light's ray starts on its disk (LightSampler::beam_origin).
     const Ray first = y0.directional ? Ray{b.lights.beam_origin(w, points[0]), w, kInfinity}
                                      : spawn_ray(y0.surface_point(), w);
-    walk(b, first, Color(1.0f), pdf_dir, unused, static_cast<int>(m + 1),
-         -1, Transport::Importance, path, [&](const Vertex& v) -> std::optional<BsdfSample> {
+    walk(b, first, Color(1.0f), pdf_dir, unused, static_cast<int>(m + 1), -1, Transport::Importance,
+         path, [&](const Vertex& v) -> std::optional<BsdfSample> {
              if (++next >= m) return std::nullopt;
              return towards(v, camera_target(light, points, m - 1 - next));
          });

@@ -1,5 +1,5 @@
 // Lesson 6, section 4: the photons' radiance estimate (see density.h).
-#include "density.h"
+#include "06_photon_mapping/density.h"
 
 #include <cmath>
 

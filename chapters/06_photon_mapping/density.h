@@ -35,10 +35,10 @@
 #include <cstdint>
 #include <optional>
 
+#include "06_photon_mapping/kernel.h"
+#include "06_photon_mapping/photon_map.h"
 #include "geometry/interaction.h"
-#include "kernel.h"
 #include "materials/bsdf.h"
-#include "photon_map.h"
 
 namespace lessons {
 

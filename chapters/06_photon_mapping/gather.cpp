@@ -11,10 +11,10 @@
 // kept within --max-depth.
 #include <algorithm>
 
-#include "density.h"
-#include "photon_mapping.h"
-#include "reflection_equation.h"
-#include "rendering_equation.h"
+#include "03_reflection_equation/reflection_equation.h"
+#include "04_rendering_equation/rendering_equation.h"
+#include "06_photon_mapping/density.h"
+#include "06_photon_mapping/photon_mapping.h"
 
 namespace lessons {
 

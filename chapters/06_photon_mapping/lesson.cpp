@@ -1,12 +1,12 @@
 // Lesson 6: photons, as a lesson: its flags (the method, the radius and its schedule, the
 // kernel, the technique images, the photons' memory, path length), and the model.
-#include "render/lesson.h"
+#include "driver/lesson.h"
 
 #include <CLI/CLI.hpp>
 
-#include "path_length_flags.h"
-#include "photon_mapping.h"
-#include "render/choice_flag.h"
+#include "04_rendering_equation/path_length_flags.h"
+#include "06_photon_mapping/photon_mapping.h"
+#include "driver/choice_flag.h"
 
 namespace lessons {
 

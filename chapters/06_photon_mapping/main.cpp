@@ -1,5 +1,5 @@
 // The 06_photon_mapping executable: the lesson (lesson.cpp) run from the command line.
-#include "render/app.h"
+#include "driver/app.h"
 
 namespace lessons {
 Lesson photon_mapping_lesson();  // lesson.cpp

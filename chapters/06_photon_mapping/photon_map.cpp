@@ -1,5 +1,5 @@
 // Lesson 6, section 1: the hashed grid of photons (see photon_map.h).
-#include "photon_map.h"
+#include "06_photon_mapping/photon_map.h"
 
 #include <algorithm>
 #include <bit>

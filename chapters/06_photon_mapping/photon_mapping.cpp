@@ -1,13 +1,13 @@
 // Lesson 6: the model (see photon_mapping.h): each pass's photons, and each pixel sample by the
 // method asked for.
-#include "photon_mapping.h"
+#include "06_photon_mapping/photon_mapping.h"
 
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
+#include "06_photon_mapping/radius.h"
 #include "io/input_error.h"
-#include "radius.h"
 
 namespace lessons {
 
@@ -60,7 +60,8 @@ void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
                                 "(only the light sample at the first diffuse vertex sees it)");
     if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
-            "a point or directional light seen in a mirror or through glass is missing: a delta light, a delta "
+            "a point or directional light seen in a mirror or through glass is missing: a delta "
+            "light, a delta "
             "BSDF and the pinhole make a path no estimator can (its caustics, seen any way, are "
             "the photons')");
     if (contents.point_light_in_view && !joined)
@@ -74,7 +75,8 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
       b_{scene, lights_, scene.camera, scene.width, scene.height},
       options_(options) {
     const PhotonMethod m = options.method;
-    splats = true;  // pass by pass: each pass has its photons (and bpt and vcm splat)
+    passes = true;      // each pass has its photons
+    splats = joins(m);  // bpt and vcm trace light onto the pixels it lands on
     alpha_ = options.alpha > 0.0f ? options.alpha : default_alpha(m);
     r1_ = options.radius > 0.0f ? options.radius : default_photon_radius(scene);
     if (options.technique_layers)
@@ -133,8 +135,8 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
                   options_.paths.roulette_after, settings.threads, merging, pass.paths);
     rays_ += pass.paths.rays;
     if (merging) {
-        const double eta = static_cast<double>(std::max(pass.paths.count, 1)) * kPi *
-                           pass.radius * pass.radius;
+        const double eta =
+            static_cast<double>(std::max(pass.paths.count, 1)) * kPi * pass.radius * pass.radius;
         weigh_photons(b_, pass.paths, eta, settings.threads);
     }
     pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
@@ -156,13 +158,8 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
     last_pass_ = std::max(last_pass_, k);
 }
 
-Color PhotonMappingModel::sample(const Ray&, Rng&, std::span<Color>, std::vector<Splat>&) const {
-    throw std::logic_error("lesson 6 samples pass by pass: sample_in_pass");
-}
-
-Color PhotonMappingModel::sample_in_pass(const Ray& ray, Rng& rng, uint32_t pixel,
-                                         std::span<Color> layers,
-                                         std::vector<Splat>& splats) const {
+Color PhotonMappingModel::sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
+                                 std::vector<Splat>& splats) const {
     if (!joins(options_.method)) return photon_mapping(b_, pass_, ray, rng, options_, layers);
     return connect_and_merge(ray, rng, pixel, layers, splats);
 }

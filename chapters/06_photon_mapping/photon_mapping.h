@@ -34,11 +34,11 @@
 #include <optional>
 #include <utility>
 
-#include "bidirectional.h"
-#include "kernel.h"
-#include "mis.h"
-#include "photon_map.h"
-#include "photons.h"
+#include "05_bidirectional/bidirectional.h"
+#include "05_bidirectional/mis.h"
+#include "06_photon_mapping/kernel.h"
+#include "06_photon_mapping/photon_map.h"
+#include "06_photon_mapping/photons.h"
 #include "render/model.h"
 
 namespace lessons {
@@ -100,19 +100,16 @@ float merge_weight(const Photon& p, const MergeCameraSide& camera, const Bsdf& b
 // vertex z_{t-1} (t >= 2) that scatters by a non-delta BSDF and every photon within r of it of
 //   w_merge (1 / N) K f(z) beta_L beta_C,
 // w_merge from mis.h with eta = N pi r^2, its camera side computed once per vertex.
-Color merges(const PhotonPass& pass, std::span<const Vertex> camera,
-             const PhotonOptions& options);
+Color merges(const PhotonPass& pass, std::span<const Vertex> camera, const PhotonOptions& options);
 
 // Lesson 6 as a model the render loop runs. `scene` must outlive it.
 class PhotonMappingModel final : public Model {
 public:
     PhotonMappingModel(const Scene& scene, const PhotonOptions& options);
-    // Lesson 6 renders pass by pass (its photons are the pass's): sample() is refused
-    // (std::logic_error), sample_in_pass() is the sample.
-    Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    // Lesson 6 renders pass by pass (its photons are the pass's; vcm's pixel takes the pass's
+    // light subpath of its index); bpt and vcm splat, pm and ppm do not.
+    Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                  std::vector<Splat>& splats) const override;
-    Color sample_in_pass(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
-                         std::vector<Splat>& splats) const override;
     void begin_pass(int sample_index, const RenderSettings& settings) const override;
     uint64_t pass_rays() const override { return rays_; }
     void report(Report& report) const override;

@@ -1,5 +1,5 @@
 // Lesson 6, section 3: the light subpaths of one iteration and their photons (see photons.h).
-#include "photons.h"
+#include "06_photon_mapping/photons.h"
 
 #include <algorithm>
 

@@ -23,8 +23,8 @@
 #include <span>
 #include <vector>
 
-#include "photon_map.h"
-#include "subpaths.h"
+#include "05_bidirectional/subpaths.h"
+#include "06_photon_mapping/photon_map.h"
 
 namespace lessons {
 
@@ -48,7 +48,9 @@ struct LightPaths {
     // were not kept).
     std::span<const Vertex> subpath(size_t j) const;
     // The vertex a photon lies on (the vertices must have been kept).
-    const Vertex& vertex_of(const Photon& photon) const { return subpath(photon.path)[photon.vertex]; }
+    const Vertex& vertex_of(const Photon& photon) const {
+        return subpath(photon.path)[photon.vertex];
+    }
     // Bytes of the subpaths and photons (the arrays' sizes: the same for any number of threads,
     // while their spare capacity is not).
     size_t bytes() const;

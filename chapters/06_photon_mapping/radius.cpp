@@ -1,5 +1,5 @@
 // Lesson 6, section 5: the default photon radius (see radius.h).
-#include "radius.h"
+#include "06_photon_mapping/radius.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // EXR files through OpenEXR (Debian's libopenexr 3.1, the reference implementation): the header
 // check every reader calls before OpenEXR allocates anything for a file, and OpenEXR's
 // exceptions turned into input errors. image_exr.cpp reads and writes images with them;
-// render/part.cpp the farm's parts.
+// farm/part.cpp the farm's parts.
 #pragma once
 
 #include <cstdint>
@@ -17,10 +17,10 @@ struct ExrLayout {
         int pixel_type = 0;  // 0 uint, 1 half, 2 float (as OpenEXR numbers them)
         int x_sampling = 1, y_sampling = 1;
     };
-    int parts = 1;           // a multi-part file's count; the suite reads the first part
-    std::string part_name;   // the first part's name, if the file gives one
+    int parts = 1;          // a multi-part file's count; the suite reads the first part
+    std::string part_name;  // the first part's name, if the file gives one
     bool tiled = false;
-    int compression = 0;     // OpenEXR's number: 0 none, 1 RLE, ... 9 DWAB (compression_name)
+    int compression = 0;  // OpenEXR's number: 0 none, 1 RLE, ... 9 DWAB (compression_name)
     int64_t width = 0, height = 0;
     std::vector<Channel> channels;
 
@@ -41,7 +41,8 @@ ExrLayout check_exr_header(const std::string& path);
 // The most channel samples a byte of an EXR file can encode, in any codec: DWAA and DWAB keep an
 // 8x8 block whose AC coefficients are zero as one 2-byte DC value (64 samples in 2 bytes), which
 // deflate packs at most 1032 to 1. (Measured with OpenEXR: a constant 4096 x 4096 RGB image takes
-// 1958 pixels per byte in DWAB, 587 in DWAA, 153 in ZIP; Image.ExrSizeBoundHoldsForTheDensestFiles.)
+// 1958 pixels per byte in DWAB, 587 in DWAA, 153 in ZIP;
+// Image.ExrSizeBoundHoldsForTheDensestFiles.)
 inline constexpr int64_t kMaxSamplesPerByte = 64 / 2 * 1032;
 
 // "none", "RLE", "ZIPS", "ZIP", "PIZ", "PXR24", "B44", "B44A", "DWAA", "DWAB".

@@ -52,8 +52,8 @@ public:
     // Adds one radiance sample to pixel `index` (row-major). Called by one thread per pixel.
     void add_sample(size_t index, const Color& radiance);
 
-    // Counts a NaN or infinite sample for pixel `index` without adding anything (render_splatting
-    // leaves such splats out; they are reported like any other invalid sample).
+    // Counts a NaN or infinite sample for pixel `index` without adding anything (the pass-by-pass
+    // render loop leaves such splats out; they are reported like any other invalid sample).
     void reject_sample(size_t index, const Color& radiance);
 
     // Adds the samples of `other`, a film of the same pixels holding other samples of them.

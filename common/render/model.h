@@ -1,19 +1,36 @@
 // A lesson's illumination model, as the render loop sees it: one interface, whatever the model.
 // A lesson makes one for a scene (its constructor reads the scene and says what it ignores);
-// the render loop asks it for samples; the driver prints and reports what it says of itself.
-// Nothing here knows the command line: a lesson's flags are its front end's (render/lesson.h).
+// the render loop (render/render.h) asks it for samples; the driver prints and reports what it
+// says of itself. Nothing here knows the command line: a lesson's flags are its front end's
+// (driver/lesson.h).
+//
+// The render loop asks two facts of a model, apart:
+//   passes  it renders pass by pass: sample index k of every pixel before index k + 1, with
+//           begin_pass(k) before each pass (lesson 6 traces the pass's photons there);
+//   splats  its samples also add light to other pixels (lessons 5 and 6's light tracing); such
+//           a model renders in passes too, so that a pass's splats land in a fixed order, and
+//           takes no crop (a splat lands anywhere).
+// A model that does neither (lessons 1 to 4) is rendered pixel by pixel, all its samples at once.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "geometry/math.h"
 #include "io/report.h"
-#include "render/render.h"
+#include "render/settings.h"
 #include "sampling/rng.h"
 
 namespace lessons {
+
+// Light that a sample adds to some pixel of the image, as its share of film `film`.
+struct Splat {
+    uint32_t pixel;  // row-major index
+    uint32_t film;   // 0: the image; 1 + k: layer k
+    Color value;
+};
 
 class Model {
 public:
@@ -24,31 +41,25 @@ public:
     Model& operator=(const Model&) = delete;
     virtual ~Model() = default;
 
-    // One sample of the radiance arriving at the camera along the primary ray `ray`, with its
-    // random numbers from `rng`. A model with layers (layer_names) also adds each layer's share
-    // of the sample into `layers` (as many entries as names, zeroed before each call; empty
-    // when the model has none); a splatting model appends the light it adds to other pixels to
-    // `splats` (a model that does not splat leaves it alone).
-    virtual Color sample(const Ray& ray, Rng& rng, std::span<Color> layers,
+    // One sample of the radiance arriving at the camera along the primary ray `ray` through
+    // pixel `pixel` (its row-major index in the whole image), with its random numbers from
+    // `rng`. A model with layers (layer_names) also adds each layer's share of the sample into
+    // `layers` (as many entries as names, zeroed before each call; empty when the model has
+    // none); a model that splats appends the light it adds to other pixels to `splats`, and any
+    // other leaves it alone. A model rendered in passes may give each pixel something of the
+    // pass's own (lesson 6's vcm: the pass's light subpath of the pixel's index).
+    virtual Color sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                          std::vector<Splat>& splats) const = 0;
 
-    // A splatting model's sample in a pass, as the pass-by-pass loop asks for it: sample() (by
-    // default), told the row-major index of the pixel whose sample it is, for a model that gives
-    // each pixel something of the pass's own (lesson 6's vcm: the pass's light subpath of that
-    // index). Every pixel of the image has one sample in each pass.
-    virtual Color sample_in_pass(const Ray& ray, Rng& rng, uint32_t /*pixel*/,
-                                 std::span<Color> layers, std::vector<Splat>& splats) const {
-        return sample(ray, rng, layers, splats);
-    }
-
-    // Whether sample() splats: then the render loop goes one pass per sample index, so that the
-    // splats of a pass land in a fixed order (render_splatting, render/render.h).
+    // Whether the model renders pass by pass (see above).
+    bool passes = false;
+    // Whether sample() splats; a model that splats also sets `passes`.
     bool splats = false;
-    // Called by the pass-by-pass loop (a model that splats) before the samples of index k of
-    // every pixel, with no sample in flight: a model that prepares something per pass (lesson 6
-    // traces its photons) does it here, on settings.threads threads, and keeps it for sample()
-    // (so state it changes here is `mutable`: it is a cache of the pass, never read across
-    // passes). Throws InputError if the pass cannot be made (lesson 6: over its memory cap).
+    // Called before the samples of index k of every pixel, with no sample in flight, for a
+    // model rendered in passes: a model that prepares something per pass (lesson 6 traces its
+    // photons) does it here, on settings.threads threads, and keeps it for sample() (so state it
+    // changes here is `mutable`: it is a cache of the pass, never read across passes). Throws
+    // InputError if the pass cannot be made (lesson 6: over its memory cap).
     virtual void begin_pass(int /*sample_index*/, const RenderSettings& /*settings*/) const {}
     // Rays traced by begin_pass so far, for the render's ray count.
     virtual uint64_t pass_rays() const { return 0; }

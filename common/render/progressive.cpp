@@ -45,41 +45,13 @@ RenderStats ProgressiveFilms::render_into(std::vector<Film>& films, int end,
         s.crop_y = part_.y0;
     }
     const int begin = part_.first_sample + done_, stop = part_.first_sample + end;
-    // The render loop for the model's kind, each calling Model::sample.
-    const Model& m = model_;
-    if (m.splats) {
-        const uint64_t pass_rays = m.pass_rays();
-        RenderStats stats = render_splatting(
-            scene_.camera, films, s,
-            [&m](const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
-                 std::vector<Splat>& splats) {
-                return m.sample_in_pass(ray, rng, pixel, layers, splats);
-            },
-            begin, stop, [&m, &s](int k) { m.begin_pass(k, s); });
-        stats.rays += m.pass_rays() - pass_rays;  // what the passes' preparation traced
-        return stats;
-    }
-    if (m.layer_names.empty())
-        return render(
-            scene_.camera, films[0], s,
-            [&m](const Ray& ray, Rng& rng) {
-                thread_local std::vector<Splat> none;  // a model that does not splat adds none
-                return m.sample(ray, rng, {}, none);
-            },
-            begin, stop);
-    return render_layers(
-        scene_.camera, films, s,
-        [&m](const Ray& ray, Rng& rng, std::span<Color> layers) {
-            thread_local std::vector<Splat> none;
-            return m.sample(ray, rng, layers, none);
-        },
-        begin, stop);
+    return render(scene_.camera, films, s, model_, begin, stop);
 }
 
 bool ProgressiveFilms::render_to(int end, const RenderSettings& settings) {
-    // A splatting model adds whole passes only; others, with whole_batches, render the batch
-    // into films of its own that join these only when it is complete.
-    const bool apart = part_.whole_batches && !model_.splats;
+    // A model rendered in passes adds whole passes only; others, with whole_batches, render the
+    // batch into films of its own that join these only when it is complete.
+    const bool apart = part_.whole_batches && !model_.passes;
     if (apart) {
         if (batch_.empty()) batch_ = films_;
         for (Film& f : batch_) f.clear();
@@ -89,10 +61,10 @@ bool ProgressiveFilms::render_to(int end, const RenderSettings& settings) {
     total_.rays += s.rays;
     total_.splat_bytes = std::max(total_.splat_bytes, s.splat_bytes);
     if (s.stopped) {
-        // A splatting model keeps the passes it finished whole (render_splatting); elsewhere
-        // the finished tiles of the batch count, but not as whole samples (unless apart: then
-        // the batch is dropped).
-        if (model_.splats) done_ += s.complete_passes;
+        // A model rendered in passes keeps the passes it finished whole (render/render.h);
+        // elsewhere the finished tiles of the batch count, but not as whole samples (unless
+        // apart: then the batch is dropped).
+        if (model_.passes) done_ += s.complete_passes;
         interrupted_ = true;
         return false;
     }
@@ -128,9 +100,10 @@ namespace {
 // Interruptible: doubling batches of whole passes (1, 1, 2, 4, ... spp), so that a stop leaves
 // every pixel with at least the samples of the batches done. One progress display for all.
 void render_in_batches(ProgressiveFilms& passes, int spp, const RenderSettings& settings) {
-    Progress progress("render",
-                      static_cast<uint64_t>(passes.films()[0].width()) * passes.films()[0].height() * spp,
-                      settings.progress);
+    Progress progress(
+        "render",
+        static_cast<uint64_t>(passes.films()[0].width()) * passes.films()[0].height() * spp,
+        settings.progress);
     RenderSettings batch_settings = settings;
     batch_settings.shared_progress = &progress;
     for (int batch = 1; passes.samples() < spp;) {
@@ -149,7 +122,8 @@ void render_with_checkpoints(ProgressiveFilms& passes, const ProgressivePlan& pl
     const bool checkpoints = plan.reference && plan.on_checkpoint;
     const bool clock = plan.time_budget > 0.0;
     for (int next_checkpoint = 1;;) {
-        if (!passes.render_to(clock ? passes.samples() + 1 : std::min(plan.spp, next_checkpoint), quiet))
+        if (!passes.render_to(clock ? passes.samples() + 1 : std::min(plan.spp, next_checkpoint),
+                              quiet))
             break;
         const bool finished =
             clock ? passes.stats().seconds >= plan.time_budget : passes.samples() >= plan.spp;

@@ -27,7 +27,7 @@ struct RenderResult {
     bool interrupted = false;  // stopped by RenderSettings::stop before the planned samples
     int firefly_pixels = 0;
     uint64_t clamped_samples = 0;
-    size_t splat_bytes = 0;  // splatting models: the most memory one pass's splats held
+    size_t splat_bytes = 0;   // models rendered in passes: the most memory one pass's splats held
     std::vector<Film> films;  // the films themselves, with ProgressivePlan::keep_films
 };
 // The piece of a render a run makes: a crop of the image and a range of sample indices (a part
@@ -44,9 +44,8 @@ struct RenderPart {
 };
 
 // The films of one render and the samples they hold: renders more samples into them, whole
-// passes over the image or its crop (the render loop for the model's kind: plain, layered or
-// splatting). Samples first .. first + N-1 in any split into calls give the same films, bit for
-// bit.
+// passes over the image or its crop (render/render.h, in the model's order). Samples first .. first
+// + N-1 in any split into calls give the same films, bit for bit.
 class ProgressiveFilms {
 public:
     ProgressiveFilms(const Scene& scene, const Model& model, float clamp,

@@ -117,24 +117,10 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace
-
-int resolve_thread_count(int requested) {
-    if (requested > 0) return requested;
-    return std::max(1u, std::thread::hardware_concurrency());
-}
-
-RenderStats render(const Camera& camera, Film& film, const RenderSettings& settings,
-                   const RadianceFn& radiance, int sample_begin, int sample_end) {
-    return render_layers(
-        camera, std::span<Film>(&film, 1), settings,
-        [&](const Ray& ray, Rng& rng, std::span<Color>) { return radiance(ray, rng); },
-        sample_begin, sample_end);
-}
-
-RenderStats render_layers(const Camera& camera, std::span<Film> films,
-                          const RenderSettings& settings, const LayeredRadianceFn& radiance,
-                          int sample_begin, int sample_end) {
+// Pixel by pixel: each tile's pixels take samples [sample_begin, sample_end) in turn.
+RenderStats render_pixels(const Camera& camera, std::span<Film> films,
+                          const RenderSettings& settings, const Model& model, int sample_begin,
+                          int sample_end) {
     const auto start = std::chrono::steady_clock::now();
     const Tiles tiles(films[0].width(), films[0].height());
     const Window window(settings, films[0]);
@@ -146,17 +132,22 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
 
     const TileRun run = run_tiles(tiles.count, settings, [&](int tile) {
         std::vector<Color> layers(layer_count);
+        std::vector<Splat> none;  // the model does not splat (render() checked)
         const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
+            const size_t index = window.image_index(x, y);
             for (int s = sample_begin; s < sample_end; ++s) {
-                Rng rng = sample_rng(settings, window.image_index(x, y), s);
+                Rng rng = sample_rng(settings, index, s);
                 const Ray ray = camera_ray(camera, settings, window, x, y, rng);
                 std::fill(layers.begin(), layers.end(), Color(0.0f));
-                const Color value = radiance(ray, rng, layers);
+                const Color value =
+                    model.sample(ray, rng, static_cast<uint32_t>(index), layers, none);
                 films[0].add_sample(pixel, value);
                 const float scale = films[0].clamp_scale(value);
                 for (size_t k = 0; k < layer_count; ++k)
                     films[1 + k].add_sample(pixel, scale * layers[k]);
             }
+            if (!none.empty())
+                throw std::logic_error("render: a model that does not say it splats splatted");
         });
         progress.advance(pixels * samples);
     });
@@ -168,75 +159,114 @@ RenderStats render_layers(const Camera& camera, std::span<Film> films,
     return stats;
 }
 
-RenderStats render_splatting(const Camera& camera, std::span<Film> films,
-                             const RenderSettings& settings, const SplattingRadianceFn& radiance,
-                             int sample_begin, int sample_end,
-                             const std::function<void(int)>& before_pass) {
+// One pass: the sample of index s of every pixel of the films into `pass` (one image per film),
+// each tile's splats into its list.
+TileRun render_pass(const Camera& camera, const RenderSettings& settings, const Model& model,
+                    const Tiles& tiles, const Window& window, int s,
+                    std::vector<std::vector<Color>>& pass,
+                    std::vector<std::vector<Splat>>& tile_splats, Progress& progress) {
+    const size_t layer_count = pass.size() - 1;
+    return run_tiles(tiles.count, settings, [&](int tile) {
+        std::vector<Color> layers(layer_count);
+        std::vector<Splat>& splats = tile_splats[tile];
+        splats.clear();
+        const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
+            const size_t index = window.image_index(x, y);
+            Rng rng = sample_rng(settings, index, s);
+            const Ray ray = camera_ray(camera, settings, window, x, y, rng);
+            std::fill(layers.begin(), layers.end(), Color(0.0f));
+            pass[0][pixel] = model.sample(ray, rng, static_cast<uint32_t>(index), layers, splats);
+            for (size_t k = 0; k < layer_count; ++k) pass[1 + k][pixel] = layers[k];
+        });
+        if (!model.splats && !splats.empty())
+            throw std::logic_error("render: a model that does not say it splats splatted");
+        progress.advance(pixels);
+    });
+}
+
+// A finished pass into the films: the tiles' splats added to the pass's images in tile order,
+// then every pixel's value as its sample. Returns the memory the splats held.
+size_t add_pass(std::span<Film> films, std::vector<std::vector<Color>>& pass,
+                const std::vector<std::vector<Splat>>& tile_splats) {
+    size_t bytes = 0;
+    for (const std::vector<Splat>& splats : tile_splats) {  // in tile order
+        bytes += splats.capacity() * sizeof(Splat);
+        for (const Splat& splat : splats) {
+            // A non-finite splat would spoil the whole sample of the pixel it lands on:
+            // counted and left out on its own instead.
+            if (is_finite(splat.value))
+                pass[splat.film][splat.pixel] += splat.value;
+            else
+                films[splat.film].reject_sample(splat.pixel, splat.value);
+        }
+    }
+    for (size_t pixel = 0; pixel < pass[0].size(); ++pixel) {
+        films[0].add_sample(pixel, pass[0][pixel]);
+        const float scale = films[0].clamp_scale(pass[0][pixel]);
+        for (size_t f = 1; f < films.size(); ++f)
+            films[f].add_sample(pixel, scale * pass[f][pixel]);
+    }
+    return bytes;
+}
+
+// Pass by pass: begin_pass(s), then sample s of every pixel, for s in [sample_begin, sample_end).
+RenderStats render_passes(const Camera& camera, std::span<Film> films,
+                          const RenderSettings& settings, const Model& model, int sample_begin,
+                          int sample_end) {
     const auto start = std::chrono::steady_clock::now();
     const Tiles tiles(films[0].width(), films[0].height());
-    if (settings.image_width > 0 &&
-        (settings.image_width != tiles.width || settings.image_height != tiles.height))
-        throw std::logic_error("render_splatting: splats land anywhere, so it takes no crop");
     const Window window(settings, films[0]);
     const size_t pixel_count = static_cast<size_t>(tiles.width) * tiles.height;
-    const size_t layer_count = films.size() - 1;
     const int samples = std::max(0, sample_end - sample_begin);
     Progress own_progress("render", pixel_count * samples,
                           settings.progress && !settings.shared_progress);
     Progress& progress = settings.shared_progress ? *settings.shared_progress : own_progress;
 
-    // One pass: each pixel's own sample per film, and each tile's splats.
     std::vector<std::vector<Color>> pass(films.size(), std::vector<Color>(pixel_count));
     std::vector<std::vector<Splat>> tile_splats(tiles.count);
+    const uint64_t pass_rays = model.pass_rays();
     RenderStats stats;
     for (int s = sample_begin; s < sample_end; ++s) {
         if (settings.stop && settings.stop->load()) {
             stats.stopped = true;
             break;
         }
-        if (before_pass) before_pass(s);
-        const TileRun run = run_tiles(tiles.count, settings, [&](int tile) {
-            std::vector<Color> layers(layer_count);
-            std::vector<Splat>& splats = tile_splats[tile];
-            splats.clear();
-            const uint64_t pixels = tiles.for_each_pixel(tile, [&](int x, int y, size_t pixel) {
-                Rng rng = sample_rng(settings, pixel, s);
-                const Ray ray = camera_ray(camera, settings, window, x, y, rng);
-                std::fill(layers.begin(), layers.end(), Color(0.0f));
-                pass[0][pixel] = radiance(ray, rng, static_cast<uint32_t>(pixel), layers, splats);
-                for (size_t k = 0; k < layer_count; ++k) pass[1 + k][pixel] = layers[k];
-            });
-            progress.advance(pixels);
-        });
+        model.begin_pass(s, settings);
+        const TileRun run =
+            render_pass(camera, settings, model, tiles, window, s, pass, tile_splats, progress);
         stats.rays += run.rays;
         if (run.stopped) {  // a pass with tiles missing would be biased: drop it whole
             stats.stopped = true;
             break;
         }
-        size_t bytes = 0;
-        for (const std::vector<Splat>& splats : tile_splats) {  // in tile order
-            bytes += splats.capacity() * sizeof(Splat);
-            for (const Splat& splat : splats) {
-                // A non-finite splat would spoil the whole sample of the pixel it lands on:
-                // counted and left out on its own instead.
-                if (is_finite(splat.value))
-                    pass[splat.film][splat.pixel] += splat.value;
-                else
-                    films[splat.film].reject_sample(splat.pixel, splat.value);
-            }
-        }
-        stats.splat_bytes = std::max(stats.splat_bytes, bytes);
+        stats.splat_bytes = std::max(stats.splat_bytes, add_pass(films, pass, tile_splats));
         ++stats.complete_passes;
-        for (size_t pixel = 0; pixel < pixel_count; ++pixel) {
-            films[0].add_sample(pixel, pass[0][pixel]);
-            const float scale = films[0].clamp_scale(pass[0][pixel]);
-            for (size_t f = 1; f < films.size(); ++f)
-                films[f].add_sample(pixel, scale * pass[f][pixel]);
-        }
     }
     if (!settings.shared_progress) progress.finish();
+    stats.rays += model.pass_rays() - pass_rays;  // what the passes' preparation traced
     stats.seconds = seconds_since(start);
     return stats;
+}
+
+}  // namespace
+
+int resolve_thread_count(int requested) {
+    if (requested > 0) return requested;
+    return std::max(1u, std::thread::hardware_concurrency());
+}
+
+RenderStats render(const Camera& camera, std::span<Film> films, const RenderSettings& settings,
+                   const Model& model, int sample_begin, int sample_end) {
+    if (model.splats && !model.passes)
+        throw std::logic_error("render: a model that splats renders in passes");
+    if (model.splats && settings.image_width > 0 &&
+        (settings.image_width != films[0].width() || settings.image_height != films[0].height()))
+        throw std::logic_error(
+            "render: splats land anywhere, so a model that splats takes no crop");
+    if (films.size() != 1 + model.layer_names.size())
+        throw std::logic_error("render: one film for the image and one per layer of the model");
+    return model.passes ? render_passes(camera, films, settings, model, sample_begin, sample_end)
+                        : render_pixels(camera, films, settings, model, sample_begin, sample_end);
 }
 
 }  // namespace lessons

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <string>
 
+#include "farm/part.h"
 #include "io/input_error.h"
-#include "render/part.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace lessons;

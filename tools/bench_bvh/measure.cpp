@@ -8,10 +8,10 @@
 #include <optional>
 #include <thread>
 
+#include "04_rendering_equation/rendering_equation.h"
 #include "io/scene_file.h"
 #include "lights/lights.h"
 #include "render/progressive.h"
-#include "rendering_equation.h"
 #include "scene/scene.h"
 
 #ifdef LESSONS_HAVE_EMBREE

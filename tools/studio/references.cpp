@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "farm/part.h"
 #include "io/input_file.h"
-#include "render/part.h"
 #include "studio_internal.h"
 
 namespace lessons::studio {

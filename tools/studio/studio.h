@@ -24,7 +24,7 @@
 #include <thread>
 #include <vector>
 
-#include "render/app.h"
+#include "driver/run.h"
 #include "render/metrics.h"
 #include "render/progressive.h"
 

@@ -4,9 +4,9 @@
 #include <fstream>
 #include <string>
 
+#include "farm/part.h"
 #include "io/input_error.h"
 #include "io/input_file.h"
-#include "render/part.h"
 
 namespace lessons {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "render/part.h"
+#include "farm/part.h"
 
 namespace lessons {
 

@@ -1,6 +1,6 @@
 // Parts of a render as EXR files (see part.h): written whole, with their checksum, and read back
 // (the header alone, or with the pixels), each refusal an InputError naming the file and field.
-#include "render/part.h"
+#include "farm/part.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -17,11 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "farm/part_format.h"
 #include "io/exr_file.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/input_file.h"
-#include "render/part_format.h"
 
 namespace lessons {
 
@@ -64,17 +64,18 @@ void save_exr(const std::string& path, int width, int height, const Image& mean,
             const char* const rgb[] = {"R", "G", "B"};
             for (int c = 0; c < 3; ++c) {
                 header.channels().insert(rgb[c], Imf::Channel(Imf::FLOAT));
-                frame.insert(rgb[c], Imf::Slice(Imf::FLOAT,
-                                                const_cast<char*>(reinterpret_cast<const char*>(
-                                                    &mean.pixels[0][c])),
-                                                sizeof(Color), sizeof(Color) * width));
+                frame.insert(
+                    rgb[c],
+                    Imf::Slice(Imf::FLOAT,
+                               const_cast<char*>(reinterpret_cast<const char*>(&mean.pixels[0][c])),
+                               sizeof(Color), sizeof(Color) * width));
             }
             for (const auto& [name, v] : words) {
                 header.channels().insert(name, Imf::Channel(Imf::UINT));
-                frame.insert(name, Imf::Slice(Imf::UINT,
-                                              const_cast<char*>(
-                                                  reinterpret_cast<const char*>(v.data())),
-                                              sizeof(uint32_t), sizeof(uint32_t) * width));
+                frame.insert(name,
+                             Imf::Slice(Imf::UINT,
+                                        const_cast<char*>(reinterpret_cast<const char*>(v.data())),
+                                        sizeof(uint32_t), sizeof(uint32_t) * width));
             }
             Imf::OutputFile file(tmp.c_str(), header);
             file.setFrameBuffer(frame);
@@ -172,9 +173,9 @@ PartFile read_part(const std::string& path, bool with_pixels) {
     const int compression = layout.compression;
     if (compression != Imf::ZIP_COMPRESSION && compression != Imf::ZIPS_COMPRESSION &&
         compression != Imf::NO_COMPRESSION)
-        throw InputError(path, 0, "compression",
-                         "is " + compression_name(compression) +
-                             ": a lesson writes parts with ZIP");
+        throw InputError(
+            path, 0, "compression",
+            "is " + compression_name(compression) + ": a lesson writes parts with ZIP");
 
     const ChannelWords words = load_merge_channels(path, *file, h);
     const std::string stored_sum = fields.at("lessons.checksum");

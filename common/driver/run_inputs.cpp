@@ -5,12 +5,12 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "driver/run.h"
+#include "farm/part.h"
 #include "io/image.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
 #include "io/shipped_files.h"
-#include "render/app.h"
-#include "render/part.h"
 
 namespace lessons {
 
@@ -21,10 +21,10 @@ void check_memory(int width, int height) {
     // The film (FilmPixel, 96 bytes), the mean and variance images and their copies in the
     // result, the PNG bytes: 160 bytes per pixel is a safe upper bound.
     const double bytes_per_pixel = 160.0;
-    check_fits_in_memory(bytes_per_pixel * width * height,
-                         std::to_string(width) + "x" + std::to_string(height) +
-                             " needs, for the image buffers,",
-                         "command line", "--width/--height");
+    check_fits_in_memory(
+        bytes_per_pixel * width * height,
+        std::to_string(width) + "x" + std::to_string(height) + " needs, for the image buffers,",
+        "command line", "--width/--height");
 }
 
 // Turns on the --naive methods by name (docs/robustness.md); throws InputError for an unknown one.
@@ -81,7 +81,8 @@ Image read_reference(const CommonOptions& o, const Scene& scene) {
     // A crop is measured against the same crop of the reference.
     Image crop(o.part.x1 - o.part.x0, o.part.y1 - o.part.y0);
     for (int y = 0; y < crop.height; ++y)
-        for (int x = 0; x < crop.width; ++x) crop.at(x, y) = reference.at(o.part.x0 + x, o.part.y0 + y);
+        for (int x = 0; x < crop.width; ++x)
+            crop.at(x, y) = reference.at(o.part.x0 + x, o.part.y0 + y);
     return crop;
 }
 
@@ -121,18 +122,19 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     if (o.is_part()) in.scene_hash = scene_files_hash(in.scene, o.limits);
     if (in.model->splats && o.part.crops(in.scene))
         throw InputError("command line", 0, "--pixels",
-                         lesson.name + " renders whole passes over the image (light splatted "
-                                       "onto pixels anywhere, photons traced for all of them), "
-                                       "so a crop cannot hold its part: split it by --samples "
-                                       "only");
+                         lesson.name +
+                             " renders whole passes over the image (light splatted "
+                             "onto pixels anywhere, photons traced for all of them), "
+                             "so a crop cannot hold its part: split it by --samples "
+                             "only");
     if (!o.variance.empty() && o.sampler != "independent")
         in.model->notes.push_back("--variance: the samples are stratified (--sampler " + o.sampler +
-                                 "), so the sample variance / N is not the error of the mean "
-                                 "(usually above it, below it for rare events such as a light "
-                                 "path few samples take); --sampler independent measures it");
+                                  "), so the sample variance / N is not the error of the mean "
+                                  "(usually above it, below it for rare events such as a light "
+                                  "path few samples take); --sampler independent measures it");
     if (o.albedo >= 0.0f)
         in.model->notes.push_back("--albedo: every diffuse reflectance is grey " +
-                                 std::to_string(o.albedo) + " (the scene's own are ignored)");
+                                  std::to_string(o.albedo) + " (the scene's own are ignored)");
 }
 
 std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in) {

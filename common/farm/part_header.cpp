@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "farm/part_format.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
-#include "render/part_format.h"
 
 namespace lessons {
 

@@ -1,15 +1,14 @@
-// The plumbing every lesson shares: command line, scene loading, rendering, writing the image
-// and the report. A lesson's main() describes the lesson and its illumination model; this runs
-// it, step by step (app.cpp): read the command line, load the scene, read the reference, make
-// the model, render (progressive.h), measure, write.
+// The steps of a lesson's run, for every front end that runs lessons (the command line's
+// run_lesson in driver/app.h, the studio): the options a command line gives (options.cpp),
+// and what a run renders with, made before any rendering (run_inputs.cpp).
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "driver/lesson.h"
 #include "io/input_file.h"
-#include "render/lesson.h"
 #include "render/progressive.h"
 #include "scene/scene.h"
 
@@ -48,8 +47,6 @@ struct CommonOptions {
     std::string image_options;
 };
 
-// The steps of run_lesson, for every front end that runs lessons (the command line, the studio).
-
 // Parses a command line (args[0] is the program's name) into `o` and the lesson's own flags.
 // Throws InputError("command line", 0, "", CLI11's message) for a bad flag, and CLI::CallForHelp
 // for --help.
@@ -65,7 +62,7 @@ struct RunInputs {
 
     Scene scene;
     std::unique_ptr<Model> model;
-    Image reference;  // empty without --reference
+    Image reference;         // empty without --reference
     std::string scene_hash;  // a part's: scene_files_hash of the scene and the files it names
 };
 // Loads the scene (applying --naive and --albedo), reads the reference and makes the model;
@@ -79,11 +76,5 @@ RenderSettings render_settings(const CommonOptions& o);
 
 // The options of a parsed command line that change the image, as CommonOptions::image_options.
 std::string image_options(const CLI::App& app);
-
-// Parses the command line, renders, writes <out>.exr, <out>.png and the report (a part, with
-// --samples or --pixels, writes its part EXR instead: render/part.h).
-// Exit codes: 0 done; 1 a failure while writing output; 2 bad input (command line, scene file,
-// mesh), reported on one line naming the file, line and field.
-int run_lesson(int argc, char** argv, const Lesson& lesson);
 
 }  // namespace lessons

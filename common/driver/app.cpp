@@ -2,7 +2,7 @@
 // (options.cpp), load the scene (with any --naive methods), read the reference and make the
 // lesson's model (run_inputs.cpp), render, measure, and write the images and the report
 // (run_outputs.cpp); this file runs them, and stops a render cleanly on Ctrl-C (see app.h).
-#include "render/app.h"
+#include "driver/app.h"
 
 #include <signal.h>
 #include <unistd.h>
@@ -15,8 +15,8 @@
 #include <iostream>
 #include <optional>
 
+#include "driver/run_outputs.h"
 #include "io/input_error.h"
-#include "render/run_outputs.h"
 
 namespace lessons {
 
@@ -70,7 +70,8 @@ void print_run_header(const Lesson& lesson, const CommonOptions& o, const RunInp
                                       : std::to_string(o.spp) + " spp")
               << ", " << resolve_thread_count(o.threads) << " threads\n";
     for (const std::string& note : in.model->notes) std::cerr << "  note: " << note << "\n";
-    for (const std::string& why : in.model->biased_because) std::cerr << "  biased: " << why << "\n";
+    for (const std::string& why : in.model->biased_because)
+        std::cerr << "  biased: " << why << "\n";
 }
 
 RunResult render_run(const CommonOptions& o, const RunInputs& in) {
@@ -145,8 +146,8 @@ std::optional<ErrorMetrics> measure(const Lesson& lesson, const CommonOptions& o
     const ErrorMetrics error = compare_images(r.image, in.reference);
     if (!o.quiet)
         std::fprintf(stderr, "%s: against %s: mse %.6g, rmse %.6g, relmse %.6g, mae %.6g\n",
-                     lesson.name.c_str(), o.reference.c_str(), error.mse, error.rmse,
-                     error.relmse, error.mae);
+                     lesson.name.c_str(), o.reference.c_str(), error.mse, error.rmse, error.relmse,
+                     error.mae);
     return error;
 }
 

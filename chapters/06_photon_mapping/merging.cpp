@@ -11,10 +11,10 @@
 #include <cfloat>
 #include <cmath>
 
+#include "05_bidirectional/mis.h"
+#include "06_photon_mapping/density.h"
+#include "06_photon_mapping/photon_mapping.h"
 #include "accel/parallel.h"
-#include "density.h"
-#include "mis.h"
-#include "photon_mapping.h"
 
 namespace lessons {
 
@@ -46,7 +46,8 @@ void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads) {
         for (size_t i = begin; i < end; ++i) {
             Photon& p = paths.photons[i];
             const std::span<const Vertex> path = paths.subpath(p.path);
-            const MergeLightSide side = merge_light_side(b, path.first(p.vertex), path[p.vertex], eta);
+            const MergeLightSide side =
+                merge_light_side(b, path.first(p.vertex), path[p.vertex], eta);
             store_light_side(p, side);
             keep[i] = side.possible;
         }
@@ -57,8 +58,7 @@ void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads) {
     paths.photons.resize(kept);
 }
 
-Color merges(const PhotonPass& pass, std::span<const Vertex> camera,
-             const PhotonOptions& options) {
+Color merges(const PhotonPass& pass, std::span<const Vertex> camera, const PhotonOptions& options) {
     const int longest = longest_path(options.paths.max_depth);
     const int N = std::max(pass.paths.count, 1);
     const double eta = static_cast<double>(N) * kPi * pass.radius * pass.radius;

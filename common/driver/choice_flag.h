@@ -1,5 +1,5 @@
 // A flag that names one of a few choices, bound to the value each name stands for (an enum, a
-// bool): for a lesson's flags struct (render/lesson.h). CLI11 checks that the name given is one
+// bool): for a lesson's flags struct (driver/lesson.h). CLI11 checks that the name given is one
 // of them (the studio offers them in this order); the parsed command line keeps the name, so the
 // report, a part's header and --help show names, never numbers. The table of names is written
 // once, here in the flag, and the model receives the value.

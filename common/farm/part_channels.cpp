@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "farm/part_format.h"
 #include "io/input_error.h"
-#include "render/part_format.h"
 
 namespace lessons::part_format {
 

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "driver/run.h"
+#include "farm/part.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
-#include "render/app.h"
-#include "render/part.h"
 
 namespace lessons {
 
@@ -39,7 +39,8 @@ void add_output_options(CLI::App& app, CommonOptions& o) {
         ->check(CLI::Range(1, kMaxImageSide));
     app.add_option("--height", o.height, "Image height in pixels, overriding the scene")
         ->check(CLI::Range(1, kMaxImageSide));
-    app.add_option("--threads", o.threads, "Worker threads, for the BVH's build and the render (0: one per core)")
+    app.add_option("--threads", o.threads,
+                   "Worker threads, for the BVH's build and the render (0: one per core)")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
     app.add_option("--seed", o.seed, "Seed of the random numbers (same seed: same image)")
@@ -118,13 +119,13 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
 }
 
 // "A:B" with 0 <= A < B <= limit, or throws naming `flag`.
-void parse_range(const std::string& text, const std::string& flag, long long limit,
-                 int& begin, int& end, const std::string& what) {
+void parse_range(const std::string& text, const std::string& flag, long long limit, int& begin,
+                 int& end, const std::string& what) {
     long long a = 0, b = 0;
     if (!parse_pair(text, ':', a, b) || b <= a || b > limit)
-        throw InputError("command line", 0, flag,
-                         "'" + text + "' is not " + what + " A:B with 0 <= A < B <= " +
-                             std::to_string(limit));
+        throw InputError(
+            "command line", 0, flag,
+            "'" + text + "' is not " + what + " A:B with 0 <= A < B <= " + std::to_string(limit));
     begin = static_cast<int>(a);
     end = static_cast<int>(b);
 }
@@ -190,9 +191,9 @@ std::string image_options(const CLI::App& app) {
     // What only places, names, shows, measures or speeds up the render; and the scene, the seed
     // and the image size, which a part's header keeps on their own.
     static const char* const kApart[] = {
-        "--help",   "--scene",   "--out",         "--spp",          "--samples",
-        "--pixels", "--width",   "--height",      "--threads",      "--seed",
-        "--report", "--exposure", "--quiet",      "--reference",    "--time",
+        "--help",        "--scene",    "--out",          "--spp",        "--samples",
+        "--pixels",      "--width",    "--height",       "--threads",    "--seed",
+        "--report",      "--exposure", "--quiet",        "--reference",  "--time",
         "--convergence", "--variance", "--max-scene-mb", "--max-file-mb"};
     std::vector<std::string> lines;
     for (const CLI::Option* opt : app.get_options()) {

@@ -1,11 +1,11 @@
-// The lesson driver's last step, private to render/: what a run wrote, from what it rendered.
+// The lesson driver's last step, private to driver/: what a run wrote, from what it rendered.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "render/app.h"
+#include "driver/run.h"
 #include "render/metrics.h"
 
 namespace lessons {

@@ -1,13 +1,13 @@
 // The lesson driver's last step: the images (or a part's EXR), the convergence CSV and the
 // JSON report of a run (see run_outputs.h).
-#include "render/run_outputs.h"
+#include "driver/run_outputs.h"
 
 #include <cstdio>
 #include <stdexcept>
 
+#include "farm/part.h"
 #include "io/image.h"
 #include "io/report.h"
-#include "render/part.h"
 
 namespace lessons {
 
@@ -141,7 +141,7 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
     }
     report.set("notes", in.model->notes);
     if (!shares.empty()) report.set("layers", shares);
-    if (in.model->splats) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
+    if (in.model->passes) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
     in.model->report(report);
     report.write(o.report);
 }

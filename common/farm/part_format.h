@@ -1,4 +1,4 @@
-// What the files of a part share (private to common/render/): the merge channels, one per field
+// What the files of a part share (private to common/farm/): the merge channels, one per field
 // of FilmPixel, as 32-bit words (part_channels.cpp), and the header as "lessons.*" attributes
 // (part_header.cpp), which part.cpp writes to and reads from an EXR.
 #pragma once
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "farm/part_header.h"
 #include "render/film.h"
-#include "render/part.h"
 
 namespace lessons::part_format {
 

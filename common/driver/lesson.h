@@ -1,8 +1,8 @@
-// A lesson as its front ends run it (the command line: render/app.h; the studio): its name, its
+// A lesson as its front ends run it (the command line: driver/app.h; the studio): its name, its
 // flags, and the model it makes for a scene. A lesson declares its flags once, in one struct of
 // its own (chapters/NN_*/lesson.cpp), next to their help text: the struct's bind() hands each
 // flag to CLI11 bound to a member, and its make_model() makes the model from their values. The
-// command line, the studio and the report (render/app.h's image_options) all read that one
+// command line, the studio and the report (driver/app.h's image_options) all read that one
 // parser. The models themselves know nothing of flags (render/model.h).
 #pragma once
 

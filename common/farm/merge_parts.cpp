@@ -1,5 +1,5 @@
 // Joining parts (see merge.h).
-#include "render/merge.h"
+#include "farm/merge_parts.h"
 
 #include <algorithm>
 #include <utility>
@@ -10,7 +10,9 @@ namespace lessons {
 
 namespace {
 
-bool overlap(int a0, int a1, int b0, int b1) { return a0 < b1 && b0 < a1; }
+bool overlap(int a0, int a1, int b0, int b1) {
+    return a0 < b1 && b0 < a1;
+}
 
 std::string pixels_text(int x0, int x1, int y0, int y1) {
     return std::to_string(x0) + ":" + std::to_string(x1) + "," + std::to_string(y0) + ":" +
@@ -92,13 +94,12 @@ void check_parts_disjoint(const std::vector<PartFile>& parts) {
                 continue;
             const int s0 = std::max(a.sample_begin, b.sample_begin);
             const int s1 = std::min(a.sample_end, b.sample_end);
-            throw InputError(parts[j].path, 0, "lessons.samples",
-                             "holds samples " + std::to_string(s0) + ":" + std::to_string(s1) +
-                                 " of pixels " +
-                                 pixels_text(std::max(a.x0, b.x0), std::min(a.x1, b.x1),
-                                             std::max(a.y0, b.y0), std::min(a.y1, b.y1)) +
-                                 ", which " + parts[i].path +
-                                 " holds too: merged, they would count them twice");
+            throw InputError(
+                parts[j].path, 0, "lessons.samples",
+                "holds samples " + std::to_string(s0) + ":" + std::to_string(s1) + " of pixels " +
+                    pixels_text(std::max(a.x0, b.x0), std::min(a.x1, b.x1), std::max(a.y0, b.y0),
+                                std::min(a.y1, b.y1)) +
+                    ", which " + parts[i].path + " holds too: merged, they would count them twice");
         }
 }
 
@@ -159,8 +160,7 @@ std::string mixed_builds(const std::vector<PartFile>& parts) {
     for (const PartFile& p : parts) {
         const PartHeader &h = p.header, &first = parts[0].header;
         if (h.build != first.build)
-            return p.path + " was made by another build of " + h.lesson + " than " +
-                   parts[0].path;
+            return p.path + " was made by another build of " + h.lesson + " than " + parts[0].path;
         if (h.cpu != first.cpu)
             return p.path + " was made on another CPU (" + h.cpu + ") than " + parts[0].path +
                    " (" + first.cpu + ")";
