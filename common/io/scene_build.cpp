@@ -203,7 +203,8 @@ void add_obj_mesh(Scene& scene, const ShapeDescription& s,
 // glTF files read so far in this build, by path.
 using GltfCache = std::map<std::string, std::shared_ptr<const GltfScene>>;
 
-std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const SourceLocation& where,
+std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file,
+                                                const SourceLocation& where,
                                                 const InputLimits& limits, GltfCache& cache,
                                                 Scene& scene) {
     auto it = cache.find(file);
@@ -217,6 +218,63 @@ std::shared_ptr<const GltfScene> read_gltf_once(const std::string& file, const S
     record_input(scene, file);
     for (const std::string& f : g->files) record_input(scene, f);
     return cache.emplace(file, g).first->second;
+}
+
+// One primitive of a glTF, placed by its node's transform and then the shape's (in double,
+// rounded once), added to the scene with the given material. Returns how many of its triangles
+// the placement flattened to zero area in float, which are skipped.
+int add_gltf_primitive(Scene& scene, const ShapeDescription& s, const GltfPrimitive& p,
+                       uint32_t material) {
+    int flattened = 0;
+    const glm::dmat4& w = p.to_world;
+    const Transform node{glm::dmat3(w), glm::dvec3(w[3])};
+    const Transform t = node.then(s.transform);
+    std::vector<Vec3> positions(p.positions.size()), normals(p.normals.size());
+    for (size_t i = 0; i < positions.size(); ++i) {
+        const glm::dvec3 q = t.point(glm::dvec3(p.positions[i]));
+        if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
+            throw InputError(s.where.file, s.where.line, s.where.field,
+                             s.file + ": " + p.where +
+                                 " is placed too far for single precision geometry (|x| "
+                                 "must be at most 1e9)");
+        positions[i] = Vec3(q);
+    }
+    for (size_t i = 0; i < normals.size(); ++i)
+        normals[i] = Vec3(t.normal(glm::dvec3(p.normals[i])));
+    std::vector<Triangle> triangles;
+    triangles.reserve(p.triangles.size());
+    for (const auto& tri : p.triangles) {
+        const Vec3 n = glm::cross(positions[tri[1]] - positions[tri[0]],
+                                  positions[tri[2]] - positions[tri[0]]);
+        if (!(glm::dot(n, n) > 0.0f)) {  // flattened by the placement, in float
+            ++flattened;
+            continue;
+        }
+        triangles.push_back({{tri[0], t.mirrors() ? tri[2] : tri[1], t.mirrors() ? tri[1] : tri[2]},
+                             material,
+                             !normals.empty()});
+    }
+    if (!triangles.empty()) scene.add_mesh(positions, normals, p.uvs, triangles);
+    return flattened;
+}
+
+// A glTF's lights placed by its shape's transform; a spot's axis and a sun's direction turned by
+// it (rounded to float, then normalised, as the scene file's directions are).
+void add_gltf_lights(Scene& scene, const ShapeDescription& s, const GltfScene& g) {
+    auto turned = [&](const Vec3& direction) {
+        return glm::normalize(Vec3(s.transform.vector(glm::dvec3(direction))));
+    };
+    for (const PointLight& l : g.lights) {
+        const glm::dvec3 q = s.transform.point(glm::dvec3(l.position));
+        if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
+            throw InputError(s.where.file, s.where.line, s.where.field,
+                             s.file + ": a light is placed beyond 1e9");
+        PointLight placed{Vec3(q), l.intensity, l.cone};
+        if (placed.cone) placed.cone->axis = turned(l.cone->axis);
+        scene.add_point_light(placed);
+    }
+    for (const DirectionalLight& l : g.directional_lights)
+        scene.add_directional_light({turned(l.direction), l.irradiance});
 }
 
 // A glTF placed by its shape's transform: each primitive's node transform, then the shape's, in
@@ -234,53 +292,11 @@ void add_gltf(Scene& scene, const ShapeDescription& s, int override_material,
     }
     int flattened = 0;
     for (const GltfPrimitive& p : g->primitives) {
-        const glm::dmat4& w = p.to_world;
-        const Transform node{glm::dmat3(w), glm::dvec3(w[3])};
-        const Transform t = node.then(s.transform);
-        std::vector<Vec3> positions(p.positions.size()), normals(p.normals.size());
-        for (size_t i = 0; i < positions.size(); ++i) {
-            const glm::dvec3 q = t.point(glm::dvec3(p.positions[i]));
-            if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
-                throw InputError(s.where.file, s.where.line, s.where.field,
-                                 s.file + ": " + p.where +
-                                     " is placed too far for single precision geometry (|x| "
-                                     "must be at most 1e9)");
-            positions[i] = Vec3(q);
-        }
-        for (size_t i = 0; i < normals.size(); ++i)
-            normals[i] = Vec3(t.normal(glm::dvec3(p.normals[i])));
         const uint32_t material = override_material >= 0 ? static_cast<uint32_t>(override_material)
                                                          : materials[p.material];
-        std::vector<Triangle> triangles;
-        triangles.reserve(p.triangles.size());
-        for (const auto& tri : p.triangles) {
-            const Vec3 n = glm::cross(positions[tri[1]] - positions[tri[0]],
-                                      positions[tri[2]] - positions[tri[0]]);
-            if (!(glm::dot(n, n) > 0.0f)) {  // flattened by the placement, in float
-                ++flattened;
-                continue;
-            }
-            triangles.push_back({{tri[0], t.mirrors() ? tri[2] : tri[1], t.mirrors() ? tri[1] : tri[2]},
-                                 material, !normals.empty()});
-        }
-        if (!triangles.empty()) scene.add_mesh(positions, normals, p.uvs, triangles);
+        flattened += add_gltf_primitive(scene, s, p, material);
     }
-    // Lights placed by the shape's transform; a spot's axis and a sun's direction turned by it
-    // (rounded to float, then normalised, as the scene file's directions are).
-    auto turned = [&](const Vec3& direction) {
-        return glm::normalize(Vec3(s.transform.vector(glm::dvec3(direction))));
-    };
-    for (const PointLight& l : g->lights) {
-        const glm::dvec3 q = s.transform.point(glm::dvec3(l.position));
-        if (!(max_component(glm::abs(q)) <= kMaxCoordinate))
-            throw InputError(s.where.file, s.where.line, s.where.field,
-                             s.file + ": a light is placed beyond 1e9");
-        PointLight placed{Vec3(q), l.intensity, l.cone};
-        if (placed.cone) placed.cone->axis = turned(l.cone->axis);
-        scene.add_point_light(placed);
-    }
-    for (const DirectionalLight& l : g->directional_lights)
-        scene.add_directional_light({turned(l.direction), l.irradiance});
+    add_gltf_lights(scene, s, *g);
     if (flattened > 0)
         scene.notes.push_back(s.file + ": " + std::to_string(flattened) +
                               " triangle(s) of zero area once placed, skipped");
@@ -329,8 +345,8 @@ struct Materials {
         if (s.material.empty()) return -1;
         const auto it = ids.find(s.material);
         if (it != ids.end()) return static_cast<int>(it->second);
-        std::string message = "undefined material '" + s.material + "'" +
-                              did_you_mean(s.material, names);
+        std::string message =
+            "undefined material '" + s.material + "'" + did_you_mean(s.material, names);
         if (names.empty()) message += " (the scene defines no [materials.*])";
         throw InputError(s.material_where.file, s.material_where.line, s.material_where.field,
                          message);

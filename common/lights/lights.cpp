@@ -1,4 +1,5 @@
-// Light selection by power, and sampling each kind of light (see lights.h).
+// Choosing a light by power, sampling the chosen light for a shading point (an area light's point
+// and density are in area_light.cpp), and light leaving a light for light paths (see lights.h).
 #include "lights/lights.h"
 
 #include <algorithm>
@@ -18,22 +19,34 @@ float power_of(const AreaLight& light) {
     return kPi * luminance(light.radiance) * light.area * sides;
 }
 
-// 1 - cos(theta_max) of the cone a sphere subtends, sin^2(theta_max) = r^2 / d^2, written as
-// sin^2 / (1 + cos) so that small, far spheres keep their precision.
-float cone_one_minus_cos(float sin2_max) {
-    return sin2_max / (1.0f + std::sqrt(std::max(0.0f, 1.0f - sin2_max)));
+// The same for a point light: an isotropic point source of intensity I sends 4 pi I; a spot,
+// less.
+float power_of(const PointLight& l) {
+    return luminance(l.intensity) * (l.cone ? l.cone->solid_angle() : 4.0f * kPi);
+}
+
+// The same for a directional light: irradiance E across the disk of area pi R^2 that the
+// scene's bounding sphere (radius R) shows it, the power that reaches the scene.
+float power_of(const DirectionalLight& l, float r) {
+    const float e = luminance(l.irradiance);
+    return e * kPi * r * r;
+}
+
+// The weight of the environment, for a bounding sphere of radius r. A uniform environment of
+// radiance L sends, from every direction, the radiance L through the disk of area pi R^2 that
+// the scene's bounding sphere (radius R) shows that direction: pi R^2 L per steradian, over
+// 4 pi steradians, power 4 pi^2 R^2 L. Only the ratios of the powers matter (they set how
+// often each light is chosen, never the image's mean): the weight used is a quarter of that
+// power, pi^2 R^2 L, so the sky is chosen less often than its power alone would say.
+float environment_weight(const Scene& scene, float r) {
+    const Color sky = scene.environment_map ? scene.environment_map->mean() : scene.background;
+    return kPi * kPi * r * r * luminance(sky);
 }
 
 }  // namespace
 
-LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
-    for (const AreaLight& light : scene.area_lights()) {
-        rectangles_.push_back(std::nullopt);
-        if (light.rectangle) {
-            const Quad& quad = scene.quads()[light.prim.index()];
-            rectangles_.back().emplace(quad.corner, quad.edge_u, quad.edge_v);
-        }
-    }
+LightSampler::LightSampler(const Scene& scene)
+    : scene_(scene), rectangles_(solid_angle_rectangles(scene)) {
     light_of_point_.assign(scene.point_lights().size(), SIZE_MAX);
     light_of_directional_.assign(scene.directional_lights().size(), SIZE_MAX);
     // The scene's bounding sphere, which a directional light's beam must cover.
@@ -49,19 +62,14 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
         float p = 0.0f;
         switch (light.kind) {
             case LightKind::Point: {
-                // An isotropic point source of intensity I sends 4 pi I; a spot, less.
-                const PointLight& l = scene.point_lights()[light.index];
-                p = luminance(l.intensity) * (l.cone ? l.cone->solid_angle() : 4.0f * kPi);
+                p = power_of(scene.point_lights()[light.index]);
                 if (!(p > 0.0f) || !std::isfinite(p)) continue;
                 light_of_point_[light.index] = lights_.size();
                 has_delta_lights_ = true;
                 break;
             }
             case LightKind::Directional: {
-                // Irradiance E across the disk of area pi R^2 that the scene's bounding sphere
-                // shows it: the power that reaches the scene.
-                const float e = luminance(scene.directional_lights()[light.index].irradiance);
-                p = e * kPi * beam_radius_ * beam_radius_;
+                p = power_of(scene.directional_lights()[light.index], beam_radius_);
                 if (!(p > 0.0f) || !std::isfinite(p)) continue;
                 light_of_directional_[light.index] = lights_.size();
                 has_delta_lights_ = true;
@@ -75,17 +83,7 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene) {
                 break;
             }
             case LightKind::Environment: {
-                // A uniform environment of radiance L sends, from every direction, the radiance
-                // L through the disk of area pi R^2 that the scene's bounding sphere (radius R)
-                // shows that direction: pi R^2 L per steradian, over 4 pi steradians, power
-                // 4 pi^2 R^2 L. Only the ratios of the powers matter (they set how often each
-                // light is chosen, never the image's mean): the weight used is a quarter of that
-                // power, pi^2 R^2 L, so the sky is chosen less often than its power alone would
-                // say.
-                const float r = beam_radius_;
-                const Color sky =
-                    scene.environment_map ? scene.environment_map->mean() : scene.background;
-                p = kPi * kPi * r * r * luminance(sky);
+                p = environment_weight(scene, beam_radius_);
                 environment_ = lights_.size();
                 break;
             }
@@ -109,7 +107,8 @@ float LightSampler::choice_probability(size_t light) const {
 
 float LightSampler::environment_pdf(const Vec3& dir) const {
     if (!environment_) return 0.0f;
-    const float p = scene_.environment_map ? scene_.environment_map->pdf(dir) : uniform_sphere_pdf();
+    const float p =
+        scene_.environment_map ? scene_.environment_map->pdf(dir) : uniform_sphere_pdf();
     return choice_probability(*environment_) * p;
 }
 
@@ -131,15 +130,16 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
             const Vec3 wi = d / std::sqrt(d2);
             const Color intensity = l.intensity_towards(-wi);
             if (is_black(intensity)) return std::nullopt;  // outside a spot's cone
-            s = LightSample{intensity / d2,         wi,   std::sqrt(d2), 1.0f, true,
-                            spawn_ray_to(at, l.position), std::nullopt};
+            s = LightSample{intensity / d2, wi,   std::sqrt(d2),
+                            1.0f,           true, spawn_ray_to(at, l.position),
+                            std::nullopt};
             s->light_index = e.index;
             break;
         }
         case LightKind::Directional: {
             const DirectionalLight& l = scene_.directional_lights()[e.index];
             const Vec3 wi = -l.direction;
-            s = LightSample{l.irradiance,         wi,         kInfinity, 1.0f, true,
+            s = LightSample{l.irradiance,      wi,          kInfinity, 1.0f, true,
                             spawn_ray(at, wi), std::nullopt};
             s->light_index = e.index;
             s->directional = true;
@@ -151,7 +151,7 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
             if (scene_.environment_map) {
                 const std::optional<EnvironmentMap::Sample> m = scene_.environment_map->sample(u);
                 if (!m) return std::nullopt;
-                s = LightSample{m->radiance, m->dir,           kInfinity, m->pdf, false,
+                s = LightSample{m->radiance,           m->dir,      kInfinity, m->pdf, false,
                                 spawn_ray(at, m->dir), std::nullopt};
                 break;
             }
@@ -164,116 +164,6 @@ std::optional<LightSample> LightSampler::sample(const SurfacePoint& at, float u_
     if (!s) return std::nullopt;
     s->pdf *= choose;
     return s;
-}
-
-std::optional<LightSample> LightSampler::sample_area(uint32_t area_light, const SurfacePoint& at,
-                                                     const Vec2& u, float choose) const {
-    const AreaLight& light = scene_.area_lights()[area_light];
-    Vec3 q, n_q, q_error;
-    float pdf_solid_angle = 0.0f;
-    const PrimRef prim = light.prim;
-    bool by_area = prim.kind() != ShapeKind::Sphere;  // else pdf_solid_angle is set below
-    if (prim.kind() == ShapeKind::Sphere) {
-        const Sphere& s = scene_.spheres()[prim.index()];
-        const Vec3 to_center = s.center - at.p;
-        const float d2 = glm::dot(to_center, to_center);
-        const float r2 = s.radius * s.radius;
-        if (d2 <= r2 * 1.0001f) {
-            // From inside (or on) the sphere, sample its whole area: p_A = 1 / (4 pi r^2).
-            const SurfacePoint on = point_by_area(area_light, u);
-            q = on.p;
-            n_q = on.n;
-            const Vec3 d = q - at.p;
-            pdf_solid_angle = area_to_solid_angle_pdf(1.0f / s.area(), glm::dot(d, d),
-                                                      glm::dot(n_q, glm::normalize(-d)));
-        } else {
-            // The sphere subtends a cone of half-angle theta_max, sin(theta_max) = r / d. Pick a
-            // direction uniformly in it, then the point where it first meets the sphere: seen
-            // from the center, at angle alpha from the axis, with
-            //   cos(alpha) = sin^2(theta) / sin(theta_max) + cos(theta) sqrt(1 - sin^2(theta) /
-            //   sin^2(theta_max)).
-            const float sin2_max = r2 / d2;
-            const float sin_max = std::sqrt(sin2_max);
-            const float one_minus_cos_max = cone_one_minus_cos(sin2_max);
-            const float one_minus_cos = u.x * one_minus_cos_max;
-            const float sin2 = one_minus_cos * (2.0f - one_minus_cos);
-            const float cos_theta = 1.0f - one_minus_cos;
-            const float cos_alpha =
-                sin2 / sin_max + cos_theta * std::sqrt(std::max(0.0f, 1.0f - sin2 / sin2_max));
-            const float sin_alpha = std::sqrt(std::max(0.0f, 1.0f - cos_alpha * cos_alpha));
-            const float phi = 2.0f * kPi * u.y;
-            const Frame frame(glm::normalize(to_center));
-            // The point's normal points back towards the shading point's side of the sphere.
-            n_q = glm::normalize(frame.to_world(
-                -Vec3(sin_alpha * std::cos(phi), sin_alpha * std::sin(phi), cos_alpha)));
-            q = s.point_at(n_q).p;
-            pdf_solid_angle = uniform_cone_pdf(one_minus_cos_max);
-        }
-        q_error = s.point_at(n_q).error;
-    } else {
-        Vec2 ab = u;  // a quad's edge coordinates of the point, uniform by area
-        if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
-            const SphericalRectangle rect(at.p, *rectangle);
-            if (rect.well_conditioned()) {
-                ab = rect.sample(u);  // uniform in solid angle instead
-                pdf_solid_angle = spherical_rectangle_pdf(rect);
-                by_area = false;
-            }
-        }
-        const SurfacePoint on = point_by_area(area_light, ab);
-        q = on.p;
-        n_q = on.n;
-        q_error = on.error;
-    }
-
-    Vec3 d = q - at.p;
-    const float d2 = glm::dot(d, d);
-    if (!(d2 > 0.0f)) return std::nullopt;
-    const float distance = std::sqrt(d2);
-    const Vec3 wi = d / distance;
-    float cos_light = glm::dot(n_q, -wi);  // > 0: the light's front faces the point
-    if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);  // the textbook slip
-    if (cos_light <= 0.0f && !light.two_sided) return std::nullopt;       // one-sided: dark behind
-    if (by_area) pdf_solid_angle = area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
-    if (!(pdf_solid_angle > 0.0f) || !std::isfinite(pdf_solid_angle)) return std::nullopt;
-    return LightSample{light.radiance,
-                       wi,
-                       distance,
-                       pdf_solid_angle * choose,
-                       false,
-                       spawn_ray_between(at, {q, q_error, n_q}),
-                       prim,
-                       q,
-                       n_q};
-}
-
-SurfacePoint LightSampler::point_by_area(uint32_t area_light, const Vec2& u) const {
-    const AreaLight& light = scene_.area_lights()[area_light];
-    const PrimRef prim = light.prim;
-    switch (prim.kind()) {
-        case ShapeKind::Sphere: {
-            const Sphere& s = scene_.spheres()[prim.index()];
-            return s.point_at(sample_uniform_sphere(u));
-        }
-        case ShapeKind::Quad: {
-            const Quad& quad = scene_.quads()[prim.index()];
-            return {quad.corner + u.x * quad.edge_u + u.y * quad.edge_v,
-                    gamma_bound(4) * (glm::abs(quad.corner) + glm::abs(u.x * quad.edge_u) +
-                                      glm::abs(u.y * quad.edge_v)),
-                    quad.normal};
-        }
-        case ShapeKind::Triangle: {
-            const Triangle& t = scene_.triangles()[prim.index()];
-            const Vec3 &p0 = scene_.positions()[t.v[0]], &p1 = scene_.positions()[t.v[1]],
-                       &p2 = scene_.positions()[t.v[2]];
-            const Vec2 b = sample_uniform_triangle(u);
-            const float b0 = 1.0f - b.x - b.y;
-            return {b0 * p0 + b.x * p1 + b.y * p2,
-                    gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(b.x * p1) + glm::abs(b.y * p2)),
-                    light.normal};
-        }
-    }
-    return {};
 }
 
 std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, const Vec2& u_point,
@@ -291,8 +181,8 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
             float pdf_dir;
             if (l.cone) {
                 const float one_minus_cos = 1.0f - l.cone->cos_outer;
-                w = glm::normalize(Frame(l.cone->axis).to_world(
-                    sample_uniform_cone(u_dir, one_minus_cos)));
+                w = glm::normalize(
+                    Frame(l.cone->axis).to_world(sample_uniform_cone(u_dir, one_minus_cos)));
                 pdf_dir = uniform_cone_pdf(one_minus_cos);
             } else {
                 w = sample_uniform_sphere(u_dir);
@@ -300,9 +190,13 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
             }
             const Color intensity = l.intensity_towards(w);
             if (is_black(intensity)) return std::nullopt;
-            EmissionSample s{
-                Ray{l.position, w, kInfinity}, l.position, Vec3(0.0f), intensity, choose, pdf_dir,
-                std::nullopt};
+            EmissionSample s{Ray{l.position, w, kInfinity},
+                             l.position,
+                             Vec3(0.0f),
+                             intensity,
+                             choose,
+                             pdf_dir,
+                             std::nullopt};
             s.light_index = e.index;
             return s;
         }
@@ -312,8 +206,9 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
             // bounding sphere on the light's side (beam_origin).
             const Vec2 disk = sample_concentric_disk(u_point);
             const Frame frame(l.direction);
-            const Vec3 origin = beam_origin(
-                l.direction, beam_center_ + frame.to_world(Vec3(disk.x, disk.y, 0.0f)) * beam_radius_);
+            const Vec3 origin =
+                beam_origin(l.direction, beam_center_ + frame.to_world(Vec3(disk.x, disk.y, 0.0f)) *
+                                                            beam_radius_);
             EmissionSample s{Ray{origin, l.direction, kInfinity},
                              origin,
                              l.direction,
@@ -389,31 +284,6 @@ LightSampler::EmissionPdf LightSampler::emission_pdf(PrimRef light, const Vec3& 
     const float dir = area_light.two_sided ? 0.5f * cosine_hemisphere_pdf(std::fabs(cos_q))
                                            : cosine_hemisphere_pdf(std::max(cos_q, 0.0f));
     return {choice_probability(it->second) / area_light.area, dir};
-}
-
-float LightSampler::area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q,
-                             const Vec3& n_q) const {
-    const AreaLight& light = scene_.area_lights()[area_light];
-    const Vec3 d = q - p;
-    const float d2 = glm::dot(d, d);
-    if (!(d2 > 0.0f)) return 0.0f;
-    float cos_light = glm::dot(n_q, -d / std::sqrt(d2));
-    if (scene_.naive.light_abs_cosine) cos_light = std::fabs(cos_light);
-    if (cos_light <= 0.0f && !light.two_sided) return 0.0f;
-    if (light.prim.kind() == ShapeKind::Sphere) {
-        const Sphere& s = scene_.spheres()[light.prim.index()];
-        const Vec3 to_center = s.center - p;
-        const float dc2 = glm::dot(to_center, to_center);
-        const float r2 = s.radius * s.radius;
-        if (dc2 <= r2 * 1.0001f) return area_to_solid_angle_pdf(1.0f / s.area(), d2, cos_light);
-        const float sin2_max = r2 / dc2;
-        return uniform_cone_pdf(cone_one_minus_cos(sin2_max));
-    }
-    if (const std::optional<Rectangle>& rectangle = rectangles_[area_light]) {
-        const SphericalRectangle rect(p, *rectangle);
-        if (rect.well_conditioned()) return spherical_rectangle_pdf(rect);
-    }
-    return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
 }
 
 float LightSampler::pdf(const Vec3& p, const SurfaceInteraction& light_hit) const {

@@ -143,13 +143,29 @@ private:
     // The light a uniform number picks, in proportion to power (an index into lights_).
     size_t choose_light(float u_choose) const;
     float choice_probability(size_t light) const;
-    // Both take an index into scene.area_lights().
+    // The area lights' part (area_light.cpp). Each takes an index into scene.area_lights().
     // sample_area's density is per sr times `choose`, the probability of choosing the light.
     std::optional<LightSample> sample_area(uint32_t area_light, const SurfacePoint& at,
                                            const Vec2& u, float choose) const;
     float area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q, const Vec3& n_q) const;
+    // A point sample_area chose on an area light for the shading point: the light's surface
+    // point with its unit normal, and its density per sr; or, by_area, a point uniform by area,
+    // whose density 1 / area sample_area converts once it knows the distance and the angle.
+    struct LightPoint {
+        SurfacePoint point;
+        float pdf_solid_angle = 0.0f;
+        bool by_area = false;
+    };
+    // A sphere's point for the shading point p: uniform in the cone the sphere subtends, or by
+    // area from inside it (with its density per sr either way).
+    LightPoint point_on_sphere_light(uint32_t area_light, const Vec3& p, const Vec2& u) const;
+    // A quad's or triangle's: uniform in the solid angle of a rectangle (rectangles_) where that
+    // is well conditioned, else by area.
+    LightPoint point_on_flat_light(uint32_t area_light, const Vec3& p, const Vec2& u) const;
     // A point uniform by area on an area light: the light's surface point, with its unit normal.
     SurfacePoint point_by_area(uint32_t area_light, const Vec2& u) const;
+    // Per area light of the scene: its rectangle if it is sampled by solid angle (rectangles_).
+    static std::vector<std::optional<Rectangle>> solid_angle_rectangles(const Scene& scene);
     // A ray leaving area light `area_light`, chosen with probability `choose` (sample_emission).
     std::optional<EmissionSample> sample_area_emission(uint32_t area_light, float choose,
                                                        const Vec2& u_point,

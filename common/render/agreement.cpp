@@ -9,6 +9,37 @@
 
 namespace lessons {
 
+namespace {
+
+// One block and channel of the test: the two block means and the variance of their
+// difference, V_image + V_reference (with the floor (4) on the image's per pixel).
+struct BlockTerm {
+    double mean_image = 0.0, mean_reference = 0.0, var = 0.0;
+};
+
+// The block of pixels [bx, x1) x [by, y1), channel c: (1/n) sum m, (1/n^2) sum v.
+BlockTerm block_term(const Image& image, const Image& variance, const Image& reference,
+                     const Image& reference_variance, double floor_scale, int bx, int by, int x1,
+                     int y1, int c) {
+    const double n = static_cast<double>(x1 - bx) * (y1 - by);
+    BlockTerm t;
+    for (int y = by; y < y1; ++y)
+        for (int x = bx; x < x1; ++x) {
+            const size_t i = static_cast<size_t>(y) * image.width + x;
+            t.mean_image += image.pixels[i][c];
+            t.mean_reference += reference.pixels[i][c];
+            const double v_reference = reference_variance.pixels[i][c];
+            t.var +=
+                std::max(double(variance.pixels[i][c]), v_reference * floor_scale) + v_reference;
+        }
+    t.mean_image /= n;
+    t.mean_reference /= n;
+    t.var /= n * n;
+    return t;
+}
+
+}  // namespace
+
 Agreement agreement(const Image& image, const Image& variance, const Image& reference,
                     const Image& reference_variance, int block, const std::string& what,
                     int image_spp, int reference_spp) {
@@ -29,22 +60,10 @@ Agreement agreement(const Image& image, const Image& variance, const Image& refe
         for (int bx = 0; bx < image.width; bx += block) {
             const int x1 = std::min(bx + block, image.width),
                       y1 = std::min(by + block, image.height);
-            const double n = static_cast<double>(x1 - bx) * (y1 - by);
             for (int c = 0; c < 3; ++c) {
-                // Block means and the variances of those means: (1/n) sum m, (1/n^2) sum v.
-                double mean_image = 0.0, mean_reference = 0.0, var = 0.0;
-                for (int y = by; y < y1; ++y)
-                    for (int x = bx; x < x1; ++x) {
-                        const size_t i = static_cast<size_t>(y) * image.width + x;
-                        mean_image += image.pixels[i][c];
-                        mean_reference += reference.pixels[i][c];
-                        const double v_reference = reference_variance.pixels[i][c];
-                        var += std::max(double(variance.pixels[i][c]), v_reference * floor_scale) +
-                               v_reference;
-                    }
-                mean_image /= n;
-                mean_reference /= n;
-                var /= n * n;
+                // Block means and the variances of those means.
+                const auto [mean_image, mean_reference, var] = block_term(
+                    image, variance, reference, reference_variance, floor_scale, bx, by, x1, y1, c);
                 const double d = mean_image - mean_reference;
                 if (!(var > 0.0)) {
                     // No noise on either side: equal to float rounding (a few ulps of a float

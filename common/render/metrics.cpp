@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 
@@ -58,7 +59,8 @@ ConvergedError converged_error(const Image& image, const Image& reference, const
     if (n == 0) return out;
     out.noise_mse = noise / static_cast<double>(n);
     out.bias2 = sum / static_cast<double>(n);
-    const double spread = n > 1 ? std::max(0.0, (sum2 - sum * out.bias2) / static_cast<double>(n - 1)) : 0.0;
+    const double spread =
+        n > 1 ? std::max(0.0, (sum2 - sum * out.bias2) / static_cast<double>(n - 1)) : 0.0;
     out.bias2_se = std::sqrt(spread / static_cast<double>(n));
     return out;
 }
@@ -92,52 +94,66 @@ std::vector<double> block_sums(const Image& im, int block, int bx, int by) {
         }
     return sums;
 }
-}  // namespace
 
-MeanComparison compare_means(const Image& image, const Image& reference, int block,
-                             const Image* image_b, const Image* reference_b) {
-    for (const Image* other : {&reference, image_b, reference_b})
+// Throws InputError unless every image given (the null ones are not) has image's size.
+void check_same_size(const Image& image, std::initializer_list<const Image*> others) {
+    for (const Image* other : others)
         if (other && (other->width != image.width || other->height != image.height))
             throw InputError("image", 0, "",
                              "sizes differ: " + std::to_string(image.width) + "x" +
                                  std::to_string(image.height) + " against " +
-                                 std::to_string(other->width) + "x" + std::to_string(other->height));
+                                 std::to_string(other->width) + "x" +
+                                 std::to_string(other->height));
+}
+
+// The block sums of a render (compare_means' blocks), or with its second half b, the mean of
+// the two halves' sums.
+std::vector<double> render_block_sums(const Image& a, const Image* b, const MeanComparison& r) {
+    std::vector<double> s = block_sums(a, r.block, r.blocks_x, r.blocks_y);
+    if (b) {
+        const std::vector<double> t = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
+        for (size_t i = 0; i < s.size(); ++i) s[i] = 0.5 * (s[i] + t[i]);
+    }
+    return s;
+}
+
+// Each block's relative variance from a render's two halves a and b (none without b): the mean
+// M = (A + B) / 2 of two independent halves has Var(M) = E[(A - B)^2] / 4, so (A - B)^2 /
+// (A + B)^2 relative to M^2 (one degree of freedom per block). Sets var per block, and adds to
+// d2 the sum of (A - B)^2 / 4 over every block.
+void add_half_variances(const Image& a, const Image* b, const MeanComparison& r,
+                        std::vector<double>& var, double& d2) {
+    if (!b) return;
+    const std::vector<double> sa = block_sums(a, r.block, r.blocks_x, r.blocks_y),
+                              sb = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
+    for (size_t i = 0; i < sa.size(); ++i) {
+        const double d = sa[i] - sb[i], m = sa[i] + sb[i];
+        d2 += 0.25 * d * d;
+        if (m > 0.0) var[i] = d * d / (m * m);
+    }
+}
+}  // namespace
+
+MeanComparison compare_means(const Image& image, const Image& reference, int block,
+                             const Image* image_b, const Image* reference_b) {
+    check_same_size(image, {&reference, image_b, reference_b});
     MeanComparison r;
     r.block = std::max(1, block);
     r.blocks_x = (image.width + r.block - 1) / r.block;
     r.blocks_y = (image.height + r.block - 1) / r.block;
-    const auto sums = [&](const Image& a, const Image* b) {
-        std::vector<double> s = block_sums(a, r.block, r.blocks_x, r.blocks_y);
-        if (b) {
-            const std::vector<double> t = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
-            for (size_t i = 0; i < s.size(); ++i) s[i] = 0.5 * (s[i] + t[i]);
-        }
-        return s;
-    };
-    const std::vector<double> im = sums(image, image_b), ref = sums(reference, reference_b);
+    const std::vector<double> im = render_block_sums(image, image_b, r),
+                              ref = render_block_sums(reference, reference_b, r);
     double total_im = 0.0, total_ref = 0.0;
     for (size_t i = 0; i < im.size(); ++i) total_im += im[i], total_ref += ref[i];
     const double pixels = 3.0 * image.width * image.height;
     r.image_mean = total_im / pixels;
     r.reference_mean = total_ref / pixels;
     r.mean_ratio = total_ref > 0.0 ? total_im / total_ref : 0.0;
-    // Each block's relative variance from the halves: the mean M = (A + B) / 2 of two
-    // independent halves has Var(M) = E[(A - B)^2] / 4, so (A - B)^2 / (A + B)^2 relative to M^2
-    // (one degree of freedom per block).
+    // Each block's relative variance from the halves (add_half_variances).
     std::vector<double> var_im(im.size(), 0.0), var_ref(im.size(), 0.0);
     double diff2_im = 0.0, diff2_ref = 0.0;  // sums of (A - B)^2 / 4 over every block
-    const auto halves = [&](const Image& a, const Image* b, std::vector<double>& var, double& d2) {
-        if (!b) return;
-        const std::vector<double> sa = block_sums(a, r.block, r.blocks_x, r.blocks_y),
-                                  sb = block_sums(*b, r.block, r.blocks_x, r.blocks_y);
-        for (size_t i = 0; i < sa.size(); ++i) {
-            const double d = sa[i] - sb[i], m = sa[i] + sb[i];
-            d2 += 0.25 * d * d;
-            if (m > 0.0) var[i] = d * d / (m * m);
-        }
-    };
-    halves(image, image_b, var_im, diff2_im);
-    halves(reference, reference_b, var_ref, diff2_ref);
+    add_half_variances(image, image_b, r, var_im, diff2_im);
+    add_half_variances(reference, reference_b, r, var_ref, diff2_ref);
     const double floor = 1e-3 * total_ref / static_cast<double>(im.size());
     r.ratios.assign(im.size(), std::nan(""));
     r.ratio_min = std::numeric_limits<double>::infinity();
@@ -162,8 +178,8 @@ MeanComparison compare_means(const Image& image, const Image& reference, int blo
     if (r.blocks_compared > 0) r.block_ratio_noise = std::sqrt(pooled / r.blocks_compared);
     // The whole mean: the blocks' noise is independent, so Var(total) = sum of the blocks'.
     if ((image_b || reference_b) && total_im > 0.0 && total_ref > 0.0)
-        r.mean_ratio_noise = std::sqrt(diff2_im / (total_im * total_im) +
-                                       diff2_ref / (total_ref * total_ref));
+        r.mean_ratio_noise =
+            std::sqrt(diff2_im / (total_im * total_im) + diff2_ref / (total_ref * total_ref));
     return r;
 }
 

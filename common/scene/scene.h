@@ -4,7 +4,8 @@
 // only for spheres; a primitive is named by a PrimRef (kind and index). Lessons ask two
 // questions of a scene: the nearest hit along a ray (intersect) and whether anything lies on a
 // segment (occluded). The full description of a hit (interaction) is computed once, for the
-// nearest hit only.
+// nearest hit only. The lights it holds are plain data, in light_types.h; building a scene is in
+// scene.cpp, its queries in scene_queries.cpp.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +22,7 @@
 #include "materials/material.h"
 #include "scene/camera.h"
 #include "scene/environment.h"
+#include "scene/light_types.h"
 
 namespace lessons {
 
@@ -33,89 +35,16 @@ struct Triangle {
 };
 static_assert(sizeof(Triangle) == 16);
 
-// A point light: radiant intensity I (W/sr) from one point, the same in every direction; or, with
-// a cone, a spot light: I along its axis, fading to nothing at the cone's edge.
-struct SpotCone {
-    Vec3 axis;        // unit, the direction the spot points
-    float cos_outer;  // cos of the half-angle to the cone's edge: no light beyond it
-    float cos_inner;  // cos of the half-angle within which the full intensity leaves (>= cos_outer)
-    // The fraction of the intensity that leaves along unit direction w: 1 within the inner cone,
-    // 0 beyond the outer, and between them smoothstep(t) = t^2 (3 - 2 t) of
-    // t = (cos - cos_outer) / (cos_inner - cos_outer), as Blender's spot blend fades.
-    float falloff(const Vec3& w) const {
-        const float c = glm::dot(axis, w);
-        if (c <= cos_outer) return 0.0f;
-        if (c >= cos_inner) return 1.0f;
-        const float t = (c - cos_outer) / (cos_inner - cos_outer);
-        return t * t * (3.0f - 2.0f * t);
-    }
-    // The integral of falloff over the sphere, sr: 2 pi times the integral over cos theta, the
-    // full part (1 - cos_inner) plus the fade's, where smoothstep averages 1/2.
-    float solid_angle() const {
-        return 2.0f * kPi * ((1.0f - cos_inner) + 0.5f * (cos_inner - cos_outer));
-    }
-};
-
-struct PointLight {
-    Vec3 position;
-    Color intensity;                 // radiant intensity, W/sr (a spot's: along its axis)
-    std::optional<SpotCone> cone = std::nullopt;  // a spot light's; none: the same everywhere
-    // The intensity leaving along unit direction w.
-    Color intensity_towards(const Vec3& w) const {
-        return cone ? intensity * cone->falloff(w) : intensity;
-    }
-    // Power, W per channel: 4 pi I, or I times the spot's solid_angle.
-    Color power() const { return intensity * (cone ? cone->solid_angle() : 4.0f * kPi); }
-};
-
-// A directional light (the sun, as a renderer models it): parallel light from infinitely far
-// away, the same irradiance E on every surface facing it, E cos(theta) on one tilted by theta.
-struct DirectionalLight {
-    Vec3 direction;    // unit, the way the light travels
-    Color irradiance;  // E, W/m^2 per channel, on a surface facing the light
-};
-
-// An emissive surface. Its radiance comes from its material; the geometry summary here is
-// what every lesson needs to treat it as a light.
-struct AreaLight {
-    PrimRef prim;
-    uint32_t material;
-    Color radiance;  // emitted radiance L_e, W / (sr m^2)
-    bool two_sided;
-    float area;              // m^2
-    Vec3 center;             // centroid (sphere: its center)
-    Vec3 center_error;       // rounding-error bound of center (for shadow rays ending on it)
-    Vec3 normal;             // unit emitting normal (zero for spheres, which emit all around)
-    bool rectangle = false;  // a quad with orthogonal edges: sampled by solid angle (lights.h)
-};
-
-// The kinds of light. Code that treats every light alike goes through Scene::lights(); code
-// that must tell them apart switches on the kind, once per purpose (docs/architecture.md lists
-// where: "A light").
-enum class LightKind {
-    Point,        // a PointLight (and spot lights)
-    Directional,  // a DirectionalLight
-    Area,         // an AreaLight: an emissive primitive
-    Environment,  // the background: a uniform sky or an environment map
-};
-
-// One light of a scene: its kind, and its index into Scene::point_lights(),
-// directional_lights() or area_lights() (0 for the environment, of which a scene has at most one).
-struct LightRef {
-    LightKind kind;
-    uint32_t index;
-};
-
 // The naive methods that the robust ones replace, kept so their failures can be shown
 // (docs/robustness.md; the --naive flag). All off by default.
 struct NaiveMethods {
-    float fixed_epsilon = 0.0f;        // > 0: spawned rays start this far off the surface, at the
-                                       // point o + t d, instead of beyond its rounding error
-    bool textbook_quadratic = false;   // spheres by b^2 - 4ac in single precision
-    bool moller_trumbore = false;      // triangles by Moller-Trumbore, not watertight
-    bool side_by_dot = false;          // the side a ray hits from dot(d, n), not the hit test
-    bool raw_shading_normals = false;  // no fallback when the viewer is below the shading normal
-    bool light_abs_cosine = false;     // next-event estimation with |cos| at one-sided lights
+    float fixed_epsilon = 0.0f;          // > 0: spawned rays start this far off the surface, at the
+                                         // point o + t d, instead of beyond its rounding error
+    bool textbook_quadratic = false;     // spheres by b^2 - 4ac in single precision
+    bool moller_trumbore = false;        // triangles by Moller-Trumbore, not watertight
+    bool side_by_dot = false;            // the side a ray hits from dot(d, n), not the hit test
+    bool raw_shading_normals = false;    // no fallback when the viewer is below the shading normal
+    bool light_abs_cosine = false;       // next-event estimation with |cos| at one-sided lights
     bool no_adjoint_correction = false;  // lesson 5's light subpaths with the camera side's BSDF
                                          // (no adjoint shading-normal correction)
     bool any() const {
@@ -126,7 +55,7 @@ struct NaiveMethods {
 
 // What a scene holds, as far as a lesson's model cares (for its notes and its bias).
 struct SceneContents {
-    bool point_lights = false;         // point and spot lights
+    bool point_lights = false;  // point and spot lights
     bool directional_lights = false;
     bool area_lights = false;
     bool environment = false;          // a background of nonzero radiance
@@ -176,9 +105,9 @@ public:
     const std::vector<PointLight>& point_lights() const { return point_lights_; }
     const std::vector<DirectionalLight>& directional_lights() const { return directional_lights_; }
     const std::vector<AreaLight>& area_lights() const { return area_lights_; }
-    // Every light, in one order: the point lights, the directional lights, the area lights (found by commit()), then the
-    // environment if there is one (has_environment()). The light sampler's choice and lesson
-    // 1's sum over lights follow this order.
+    // Every light, in one order: the point lights, the directional lights, the area lights (found
+    // by commit()), then the environment if there is one (has_environment()). The light sampler's
+    // choice and lesson 1's sum over lights follow this order.
     std::vector<LightRef> lights() const;
     const std::vector<Sphere>& spheres() const { return spheres_; }
     const std::vector<Quad>& quads() const { return quads_; }
@@ -211,8 +140,8 @@ public:
         return environment_map ? environment_map->radiance(dir) : background;
     }
     bool has_environment() const { return environment_map || !is_black(background); }
-    NaiveMethods naive;      // for demonstrations only
-    std::string source;      // the file it came from, for messages and reports
+    NaiveMethods naive;  // for demonstrations only
+    std::string source;  // the file it came from, for messages and reports
     // Every file it was made of, each once, in the order loading read them: the scene file,
     // meshes and their MTL files, textures, the environment map, glTF files and the buffers and
     // images they name. What the farm's scene hash and the studio's reference cache key cover.
