@@ -16,6 +16,8 @@ install_missing_packages chromium gnuplot-nox
 # The package's tests make the .deb with CPack, which finds its dependencies with dpkg-shlibdeps
 # (dpkg-dev) and the programs among its files with file(1); util-linux's unshare hides the trees.
 install_missing_packages dpkg-dev file util-linux
+# The check that no core function is over 60 lines finds functions with Universal Ctags.
+install_missing_packages universal-ctags
 # The Blender bridge's tests (slow) run Debian's Blender, whose Python needs numpy; the live farm
 # tests (slow) start a single-node Slurm cluster (slurm-wlm, munge) and an sshd (openssh-server).
 if [ "${1:-}" != "--quick" ]; then

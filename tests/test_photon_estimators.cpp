@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -330,6 +331,46 @@ TEST(PhotonMapping, PassesSplitAcrossPartsMergeIntoTheSingleRun) {
                 << name << ", film " << f;
         }
     }
+}
+
+TEST(PhotonMapping, PmAndPpmCropsRenderedApartMergeIntoTheSingleRun) {
+    // pm and ppm render in passes (each pass has its photons) but splat nothing, so a crop
+    // (--pixels) renders its pixels as the whole image does: the same rays, random numbers and
+    // photons. Crops rendered apart, each with a model of its own as a part's run makes,
+    // added into the whole films give the single run's films bit for bit. vcm splats, so it
+    // takes no crop.
+    const Scene scene = small_cornell_spheres();
+    const RenderSettings settings = test::quiet_settings(96);
+    for (const PhotonMethod method : {PhotonMethod::PhotonMapping, PhotonMethod::Progressive}) {
+        const char* name = photon_method_name(method);
+        const PhotonOptions options = with_layers(method);
+        const PhotonMappingModel single_model(scene, options);
+        ASSERT_TRUE(single_model.passes);
+        ASSERT_FALSE(single_model.splats);
+        ProgressiveFilms single(scene, single_model, 0.0f);
+        ASSERT_TRUE(single.render_to(3, settings));
+
+        const int w = scene.width, h = scene.height;
+        std::vector<Film> merged(single.films().size(), Film(w, h));
+        for (const auto& [x0, x1, y0, y1] : std::vector<std::array<int, 4>>{
+                 {0, w / 3, 0, h}, {w / 3, w, 0, h / 2}, {w / 3, w, h / 2, h}}) {
+            const PhotonMappingModel part_model(scene, options);
+            RenderPart part;
+            part.x0 = x0, part.x1 = x1, part.y0 = y0, part.y1 = y1;
+            ProgressiveFilms crop(scene, part_model, 0.0f, part);
+            ASSERT_TRUE(crop.render_to(3, settings));
+            for (size_t f = 0; f < merged.size(); ++f)
+                merged[f].add_window(crop.films()[f], x0, y0);
+        }
+        for (size_t f = 0; f < merged.size(); ++f)
+            EXPECT_TRUE(same_bits(single.films()[f].mean(), merged[f].mean()))
+                << name << ", film " << f;
+    }
+    const PhotonMappingModel vcm(scene, with_layers(PhotonMethod::VertexMerging));
+    RenderPart half;
+    half.x1 = scene.width / 2, half.y1 = scene.height;
+    ProgressiveFilms crop(scene, vcm, 0.0f, half);
+    EXPECT_THROW(crop.render_to(1, settings), std::logic_error);
 }
 
 namespace {

@@ -74,3 +74,38 @@ TEST(Render, CountsTheRaysItTraces) {
     EXPECT_EQ(r.nan_pixels, 0);
     EXPECT_EQ(r.inf_pixels, 0);
 }
+
+TEST(Render, PassByPassAndPixelByPixelGiveTheSameImageAndASplatNeedsPasses) {
+    // The loop's two orders add the same samples (each from Rng(seed, pixel, k)) to exact,
+    // order-free sums: a model that says `passes` gets the image it gets pixel by pixel, crop
+    // or not. A model that splats without passes, or a model that splats into a crop, is a
+    // programming error the loop refuses.
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {40, 30});
+    test::FunctionModel model([&scene](const Ray& ray, Rng& rng) {
+        return ray_cast(scene, ray, {}) * (0.5f + rng.uniform());
+    });
+    const RenderSettings settings = test::quiet_settings(77, 2);
+    Film by_pixel(40, 30), by_pass(40, 30), crop(20, 10);
+    test::render_film(scene.camera, by_pixel, settings, model, 0, 3);
+    model.passes = true;
+    test::render_film(scene.camera, by_pass, settings, model, 0, 3);
+    RenderSettings cropped = settings;
+    cropped.image_width = 40;
+    cropped.image_height = 30;
+    cropped.crop_x = 10;
+    cropped.crop_y = 5;
+    test::render_film(scene.camera, crop, cropped, model, 0, 3);
+    const Image a = by_pixel.mean(), b = by_pass.mean(), c = crop.mean();
+    for (size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << i;
+    for (int y = 0; y < 10; ++y)
+        for (int x = 0; x < 20; ++x)
+            ASSERT_EQ(c.pixels[y * 20 + x], a.pixels[(y + 5) * 40 + x + 10]) << x << ", " << y;
+
+    model.splats = true;
+    model.passes = false;
+    EXPECT_THROW(test::render_film(scene.camera, by_pixel, settings, model, 3, 4),
+                 std::logic_error);
+    model.passes = true;
+    EXPECT_THROW(test::render_film(scene.camera, crop, cropped, model, 3, 4), std::logic_error);
+}

@@ -123,10 +123,8 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     if (in.model->splats && o.part.crops(in.scene))
         throw InputError("command line", 0, "--pixels",
                          lesson.name +
-                             " renders whole passes over the image (light splatted "
-                             "onto pixels anywhere, photons traced for all of them), "
-                             "so a crop cannot hold its part: split it by --samples "
-                             "only");
+                             " splats light onto pixels anywhere in the image, so a "
+                             "crop cannot hold its part: split it by --samples only");
     if (!o.variance.empty() && o.sampler != "independent")
         in.model->notes.push_back("--variance: the samples are stratified (--sampler " + o.sampler +
                                   "), so the sample variance / N is not the error of the mean "

@@ -1,6 +1,7 @@
-// Sampling an area light for a shading point (see lights.h): a point on it, by solid angle
+// Sampling an area light (see lights.h): for a shading point, a point on it, by solid angle
 // where that can be done accurately (a rectangle, a sphere seen from outside) and by area
-// otherwise, and the density of such a point per sr (area_pdf). Choosing the light is in
+// otherwise, and the density of such a point per sr (area_pdf); for a light subpath, a point
+// by area and a direction by cosine (sample_area_emission). Choosing the light is in
 // lights.cpp.
 #include <algorithm>
 #include <cmath>
@@ -180,6 +181,38 @@ float LightSampler::area_pdf(uint32_t area_light, const Vec3& p, const Vec3& q,
         if (rect.well_conditioned()) return spherical_rectangle_pdf(rect);
     }
     return area_to_solid_angle_pdf(1.0f / light.area, d2, cos_light);
+}
+
+// Emission from an area light for a light subpath: a point by area, a direction by cosine.
+std::optional<EmissionSample> LightSampler::sample_area_emission(uint32_t area_light, float choose,
+                                                                 const Vec2& u_point,
+                                                                 const Vec2& u_dir) const {
+    const AreaLight& light = scene_.area_lights()[area_light];
+    SurfacePoint on = point_by_area(area_light, u_point);
+    // A two-sided light leaves by either side, half the time each: u_dir.x picks the side, then
+    // is stretched back to [0, 1).
+    Vec2 u = u_dir;
+    float side = 1.0f;
+    if (light.two_sided) {
+        side = 0.5f;
+        if (u.x < 0.5f) {
+            on.n = -on.n;
+            u.x = 2.0f * u.x;
+        } else {
+            u.x = std::min(2.0f * u.x - 1.0f, 0x1.fffffep-1f);
+        }
+    }
+    const Vec3 local = sample_cosine_hemisphere(u);
+    if (!(local.z > 0.0f)) return std::nullopt;  // the disk's rim: measure zero
+    const Vec3 w = glm::normalize(Frame(on.n).to_world(local));
+    return EmissionSample{spawn_ray(on, w),
+                          on.p,
+                          on.n,
+                          light.radiance,
+                          choose / light.area,
+                          side * cosine_hemisphere_pdf(local.z),
+                          light.prim,
+                          on.error};
 }
 
 }  // namespace lessons

@@ -226,37 +226,6 @@ std::optional<EmissionSample> LightSampler::sample_emission(float u_choose, cons
     return std::nullopt;
 }
 
-std::optional<EmissionSample> LightSampler::sample_area_emission(uint32_t area_light, float choose,
-                                                                 const Vec2& u_point,
-                                                                 const Vec2& u_dir) const {
-    const AreaLight& light = scene_.area_lights()[area_light];
-    SurfacePoint on = point_by_area(area_light, u_point);
-    // A two-sided light leaves by either side, half the time each: u_dir.x picks the side, then
-    // is stretched back to [0, 1).
-    Vec2 u = u_dir;
-    float side = 1.0f;
-    if (light.two_sided) {
-        side = 0.5f;
-        if (u.x < 0.5f) {
-            on.n = -on.n;
-            u.x = 2.0f * u.x;
-        } else {
-            u.x = std::min(2.0f * u.x - 1.0f, 0x1.fffffep-1f);
-        }
-    }
-    const Vec3 local = sample_cosine_hemisphere(u);
-    if (!(local.z > 0.0f)) return std::nullopt;  // the disk's rim: measure zero
-    const Vec3 w = glm::normalize(Frame(on.n).to_world(local));
-    return EmissionSample{spawn_ray(on, w),
-                          on.p,
-                          on.n,
-                          light.radiance,
-                          choose / light.area,
-                          side * cosine_hemisphere_pdf(local.z),
-                          light.prim,
-                          on.error};
-}
-
 LightSampler::EmissionPdf LightSampler::point_emission_pdf(uint32_t index, const Vec3& w) const {
     if (index >= light_of_point_.size() || light_of_point_[index] == SIZE_MAX) return {};
     const PointLight& l = scene_.point_lights()[index];

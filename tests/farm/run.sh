@@ -148,7 +148,7 @@ refusals)
     expect_refusal "a crop outside the image" "--pixels: '0:40,0:24' reaches outside the 32x24 image" "${L4[@]}" --pixels 0:40,0:24 --out "$WORK/x"
     expect_refusal "a crop without rows" "--pixels: '0:16' is not a crop X0:X1,Y0:Y1" "${L4[@]}" --pixels 0:16 --out "$WORK/x"
     expect_refusal "a part with --time" "--time: a part renders a given range of samples" "${L4[@]}" --samples 0:4 --time 1 --out "$WORK/x"
-    expect_refusal "a crop of lesson 5" "--pixels: 05_bidirectional renders whole passes over the image" "$BIN/05_bidirectional" --quiet --scene scenes/cornell_box.toml "${SIZE[@]}" --pixels 0:16,0:24 --out "$WORK/x"
+    expect_refusal "a crop of lesson 5" "--pixels: 05_bidirectional splats light onto pixels anywhere in the image" "$BIN/05_bidirectional" --quiet --scene scenes/cornell_box.toml "${SIZE[@]}" --pixels 0:16,0:24 --out "$WORK/x"
     ;;
 
 interrupt)
