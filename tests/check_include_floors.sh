@@ -18,8 +18,8 @@
 #        tests/check_include_floors.sh --negative-control [REPOSITORY_ROOT]
 # The second form checks the check: on a copy of the core and chapters in which geometry/math.h
 # includes driver/app.h, render/film.h includes farm/part.h, lesson 1 includes lesson 5's header
-# and lesson 4's own header by its bare name, and io/image.h a lesson's header, it must report
-# all five and fail.
+# and lesson 4's own header by its bare name, io/image.h a lesson's header, and sampling/rng.h
+# <driver/lesson.h> in angle brackets, it must report all six and fail. (Bash 4: declare -A.)
 set -euo pipefail
 
 if [ "${1:-}" = "--negative-control" ]; then
@@ -32,6 +32,7 @@ if [ "${1:-}" = "--negative-control" ]; then
     echo '#include "05_bidirectional/bidirectional.h"' >>"$copy/chapters/01_ray_casting/ray_casting.cpp"
     echo '#include "rendering_equation.h"' >>"$copy/chapters/04_rendering_equation/lesson.cpp"
     echo '#include "01_ray_casting/ray_casting.h"' >>"$copy/common/io/image.h"
+    echo '#include <driver/lesson.h>' >>"$copy/common/sampling/rng.h"
     if out="$(bash "${BASH_SOURCE[0]}" "$copy")"; then
         echo "negative control: the check passed a core with upward includes:"
         echo "$out"
@@ -44,11 +45,12 @@ if [ "${1:-}" = "--negative-control" ]; then
         '^common/render/film.h:[0-9]*: includes "farm/part.h" (floor 7' \
         '^chapters/01_ray_casting/ray_casting.cpp:[0-9]*: includes "05_bidirectional/bidirectional.h" (lesson 05' \
         '^chapters/04_rendering_equation/lesson.cpp:[0-9]*: includes "rendering_equation.h" (names no folder' \
-        '^common/io/image.h:[0-9]*: includes "01_ray_casting/ray_casting.h" (a lesson'; do
+        '^common/io/image.h:[0-9]*: includes "01_ray_casting/ray_casting.h" (a lesson' \
+        '^common/sampling/rng.h:[0-9]*: includes "driver/lesson.h" (floor 8'; do
         grep -q "$expected" <<<"$out" || { echo "negative control: not reported: $expected"; missing=1; }
     done
     [ "$missing" -eq 0 ] || exit 1
-    echo "negative control: all five planted includes reported"
+    echo "negative control: all six planted includes reported"
     exit 0
 fi
 ROOT="$(cd "${1:-$(dirname "${BASH_SOURCE[0]}")/..}" && pwd)"
@@ -76,7 +78,14 @@ while IFS= read -r hit; do
     file="${hit%%:*}"
     rest="${hit#*:}"
     line="${rest%%:*}"
-    header="$(sed -E 's/^[^"]*"([^"]+)".*$/\1/' <<<"${rest#*:}")"
+    header="$(sed -E 's/^[^"<]*["<]([^">]+)[">].*$/\1/' <<<"${rest#*:}")"
+    # An angle include is the core's or a lesson's only if it names a core folder or a lesson's
+    # (the core and chapters/ are on the include path, so <render/film.h> would compile too).
+    if [[ "${rest#*:}" =~ \<[^\>]*\> ]]; then
+        first="${header%%/*}"
+        [[ "$header" == */* ]] && { [ -n "${floor[$first]+set}" ] || [[ "$first" =~ ^[0-9][0-9]_ ]]; } ||
+            continue
+    fi
     checked=$((checked + 1))
     if [[ "$header" != */* ]]; then
         report "$file:$line" "$header" "names no folder: write it as \"FOLDER/$header\""
@@ -86,7 +95,8 @@ while IFS= read -r hit; do
     # The including file's place: a core folder's floor, or a lesson's number.
     case "$file" in
         common/*) room="$(cut -d/ -f2 <<<"$file")"; from="${floor[$room]:-}"; number="" ;;
-        *) lesson="$(cut -d/ -f2 <<<"$file")"; number="${lesson:0:2}"; from="" ;;
+        chapters/[0-9][0-9]_*/*) lesson="$(cut -d/ -f2 <<<"$file")"; number="${lesson:0:2}"; from="" ;;
+        *) number="99"; from="" ;;  # chapters/all_lessons.h and the like: above every lesson
     esac
     if [[ "$target" =~ ^[0-9][0-9]_ ]]; then
         if [ ! -d "chapters/$target" ]; then
@@ -101,7 +111,7 @@ while IFS= read -r hit; do
     elif [ -n "$from" ] && [ "${floor[$target]}" -gt "$from" ]; then
         report "$file:$line" "$header" "floor ${floor[$target]}, $target/, above floor $from, $room/"
     fi
-done < <(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]+"' common chapters \
+done < <(grep -rnE '^[[:space:]]*#[[:space:]]*include[[:space:]]*["<]' common chapters \
              --include='*.h' --include='*.cpp')
 
 [ "$checked" -gt 0 ] || { echo "check_include_floors: no includes found under $ROOT" >&2; exit 2; }

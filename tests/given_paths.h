@@ -3,7 +3,7 @@
 // merges, Vcm.WeightsOfEveryJoinAndMergeSumToOne): a path x_0 (the light) ... x_{n-1} (the
 // camera) is made from both ends by subpaths_along (subpaths.h), split at every s, and each
 // split the joins can run (connect.h) is weighed as connect() weighs it; with merging, each
-// merge the photons can make (merge.cpp) as merges() weighs it. The scenes hold every kind of
+// merge the photons can make (merging.cpp) as merges() weighs it. The scenes hold every kind of
 // light and vertex the weights treat apart, and each comes with its paths.
 #pragma once
 

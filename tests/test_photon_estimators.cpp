@@ -423,9 +423,11 @@ TEST(PhotonMapping, ReportsItsRadiusAndPhotonMemoryAndRefusesOverItsCap) {
     // pass reached (r_1 K^((alpha - 1) / 2) after K passes: pass_radius of pass K - 1) and the
     // most memory one pass's photons took. ppm with a given radius and alpha; vcm with its
     // defaults (two pixel footprints at the median distance, radius.h; alpha 3/4); bpt makes no
-    // photons and says only its method. A cap below one pass's photons stops the run before
-    // its first pass: exit status 2 (bad input), one line naming --max-photon-mb and the size
-    // over it, no image.
+    // photons and says only its method. The flags: a fixed radius (pm) is biased and not
+    // consistent; a shrinking one (ppm, vcm where it merges: --merging always on this box of
+    // diffuse walls) biased but consistent; bpt here neither. A cap below one pass's photons stops
+    // the run before its first pass: exit status 2 (bad input), one line naming --max-photon-mb and
+    // the size over it, no image.
     const fs::path dir =
         fs::temp_directory_path() / ("lessons_photon_report_" + std::to_string(getpid()));
     fs::remove_all(dir);
@@ -438,11 +440,14 @@ TEST(PhotonMapping, ReportsItsRadiusAndPhotonMemoryAndRefusesOverItsCap) {
         const char* method;
         std::string flags;
         double r1, alpha;
+        const char *biased, *consistent;
     };
     const Scene scene = load_scene(scene_file, {16, 16});
-    const Case cases[] = {{"ppm", "--radius 0.05 --alpha 0.5", 0.05, 0.5},
-                          {"vcm", "", default_photon_radius(scene), 0.75},
-                          {"bpt", "", 0.0, 0.0}};
+    const Case cases[] = {
+        {"pm", "--radius 0.05", 0.05, 1.0, "true", "false"},
+        {"ppm", "--radius 0.05 --alpha 0.5", 0.05, 0.5, "true", "true"},
+        {"vcm", "--merging always", default_photon_radius(scene), 0.75, "true", "true"},
+        {"bpt", "", 0.0, 0.0, "false", "true"}};
     for (const Case& c : cases) {
         const fs::path report = dir / (std::string(c.method) + ".json");
         const CommandResult r =
@@ -451,6 +456,8 @@ TEST(PhotonMapping, ReportsItsRadiusAndPhotonMemoryAndRefusesOverItsCap) {
         ASSERT_EQ(r.exit_code, 0) << r.output;
         const std::string json = read_text(report);
         EXPECT_EQ(report_field(json, "method"), "\"" + std::string(c.method) + "\"") << json;
+        EXPECT_EQ(report_field(json, "biased"), c.biased) << json;
+        EXPECT_EQ(report_field(json, "consistent"), c.consistent) << json;
         if (std::string(c.method) == "bpt") {
             for (const char* field : {"radius_first", "radius_reached", "photon_bytes", "kernel"})
                 EXPECT_EQ(report_field(json, field), "") << field << " in\n" << json;
@@ -466,7 +473,8 @@ TEST(PhotonMapping, ReportsItsRadiusAndPhotonMemoryAndRefusesOverItsCap) {
     }
 
     const CommandResult capped =
-        run(lesson + " --spp 2 --max-photon-mb 0.001 --out " + (dir / "capped").string());
+        run(lesson + " --spp 2 --merging always --max-photon-mb 0.001 --out " +
+            (dir / "capped").string());
     EXPECT_EQ(capped.exit_code, 2) << capped.output;
     EXPECT_NE(capped.output.find("06_photon_mapping: error: "), std::string::npos) << capped.output;
     EXPECT_NE(capped.output.find("--max-photon-mb"), std::string::npos) << capped.output;

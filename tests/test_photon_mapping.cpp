@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include "06_photon_mapping/density.h"
@@ -381,4 +382,35 @@ TEST(PhotonDensity, AFixedRadiusEstimatesTheIrradianceConvolvedWithTheKernel) {
             }
         }
     }
+}
+
+TEST(PhotonDensity, APhotonIsWeightedByTheCosineAtItsOwnSurface) {
+    // A smooth-shaded mesh (density.h): x lies on a facet whose geometric normal n_g leans 30
+    // degrees from its shading normal n_s = +y, and a photon from the neighbouring facet, whose
+    // normal n_p is +y, arrives at x nearly tangent to x's facet (wi . n_g = 0.03, wi . n_p =
+    // 0.53). The photon's density holds |wi . n_p|, so its term is K f beta |wi . n_s| /
+    // |wi . n_p|, here K f beta exactly; dividing by x's |wi . n_g| instead would make it 17
+    // times that.
+    const Scene scene = point_light_over_a_floor(1.0, 1.0, 0.5);
+    SurfaceInteraction si = floor_point(scene, 0.0, 0.0);
+    si.n_shading = Vec3(0, 1, 0);
+    si.n_geo = glm::normalize(Vec3(0.5f, 0.8660254f, 0));
+    si.wo = Vec3(0, 1, 0);
+    const Bsdf bsdf(scene.material(si.material), si);
+    Photon p;
+    p.p = si.p + Vec3(0.01f, 0, 0);
+    p.wi = glm::normalize(Vec3(-0.85f, 0.5268f, 0));
+    p.n = Vec3(0, 1, 0);
+    p.beta = Color(2.0f);
+    p.vertex = 1;
+    const float r = 0.1f;
+    ASSERT_LT(glm::dot(p.wi, si.n_geo), 0.05f);
+    const std::optional<Color> term = photon_term(p, si, bsdf, si.wo, Kernel::Constant, r);
+    ASSERT_TRUE(term.has_value());
+    const Vec3 d = p.p - si.p;
+    const Color f = bsdf.eval(si.wo, p.wi);
+    ASSERT_GT(f.x, 0.0f);
+    const float expected = kernel_weight(Kernel::Constant, glm::dot(d, d), r) * f.x * p.beta.x *
+                           std::fabs(glm::dot(p.wi, si.n_shading)) / std::fabs(glm::dot(p.wi, p.n));
+    EXPECT_NEAR(term->x, expected, 1e-5f * expected);
 }

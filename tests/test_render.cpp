@@ -109,3 +109,38 @@ TEST(Render, PassByPassAndPixelByPixelGiveTheSameImageAndASplatNeedsPasses) {
     model.passes = true;
     EXPECT_THROW(test::render_film(scene.camera, crop, cropped, model, 3, 4), std::logic_error);
 }
+
+namespace {
+// A model whose sample is the index of the pixel it is told (its place in the whole image).
+class PixelIndexModel final : public Model {
+public:
+    Color sample(const Ray&, Rng&, uint32_t pixel, std::span<Color>,
+                 std::vector<Splat>&) const override {
+        return Color(static_cast<float>(pixel));
+    }
+};
+}  // namespace
+
+TEST(Render, AModelIsToldEachPixelsIndexInTheWholeImageInACrop) {
+    // Pixel by pixel and pass by pass, a crop's pixel (x, y) is pixel (crop_x + x, crop_y + y)
+    // of the whole image: its random numbers' key, and the index sample() is told (lesson 6's
+    // vcm takes the pass's light subpath of that index).
+    const Scene scene =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {40, 30});
+    for (const bool passes : {false, true}) {
+        PixelIndexModel model;
+        model.passes = passes;
+        RenderSettings cropped = test::quiet_settings(5, 2);
+        cropped.image_width = 40;
+        cropped.image_height = 30;
+        cropped.crop_x = 7;
+        cropped.crop_y = 11;
+        Film crop(13, 9);
+        test::render_film(scene.camera, crop, cropped, model, 0, 1);
+        const Image c = crop.mean();
+        for (int y = 0; y < 9; ++y)
+            for (int x = 0; x < 13; ++x)
+                ASSERT_EQ(c.pixels[y * 13 + x].x, static_cast<float>((y + 11) * 40 + x + 7))
+                    << x << ", " << y << (passes ? " (pass by pass)" : "");
+    }
+}

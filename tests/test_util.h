@@ -1,4 +1,5 @@
-// Small helpers shared by the tests: random geometry and a scene built in code.
+// Small helpers shared by the tests: render settings, a model made of a function (FunctionModel,
+// render_film), random geometry and a scene built in code.
 #pragma once
 
 #include <algorithm>

@@ -260,6 +260,40 @@ TEST(Vcm, WithoutMergingIsLessonFiveBitForBit) {
     }
 }
 
+TEST(Vcm, MergesOnlyWhereTheSceneHasADeltaSurface) {
+    // --merging auto (the default): in the Cornell box (nothing but diffuse walls and a lamp)
+    // every path has a join, so vcm leaves merging out and is lesson 5 bit for bit, and says
+    // so; --merging always merges there anyway and differs. In the box with a mirror and a
+    // glass ball auto merges: the same image bit for bit as always; never is lesson 5 there.
+    const RenderSettings settings = test::quiet_settings(92);
+    const auto render_vcm = [&](const Scene& scene, Merging merging) {
+        PhotonOptions options;
+        options.merging = merging;
+        const PhotonMappingModel model(scene, options);
+        return std::make_pair(render_scene(scene, model, 4, settings), model.notes);
+    };
+    const Scene box =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_box.toml", {24, 16});
+    EXPECT_FALSE(merges_in(box, Merging::Auto));
+    const RenderResult five = render_scene(box, BidirectionalModel(box, {}), 4, settings);
+    const auto [auto_box, auto_notes] = render_vcm(box, Merging::Auto);
+    EXPECT_TRUE(same_bits(auto_box.image, five.image));
+    EXPECT_TRUE(same_bits(auto_box.variance, five.variance));
+    ASSERT_FALSE(auto_notes.empty());
+    EXPECT_NE(auto_notes[0].find("merging left out"), std::string::npos) << auto_notes[0];
+    EXPECT_FALSE(same_bits(render_vcm(box, Merging::Always).first.image, five.image));
+
+    const Scene spheres =
+        load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_spheres.toml", {24, 16});
+    EXPECT_TRUE(merges_in(spheres, Merging::Auto));
+    const RenderResult always = render_vcm(spheres, Merging::Always).first;
+    EXPECT_TRUE(same_bits(render_vcm(spheres, Merging::Auto).first.image, always.image));
+    const RenderResult spheres_five =
+        render_scene(spheres, BidirectionalModel(spheres, {}), 4, settings);
+    EXPECT_TRUE(same_bits(render_vcm(spheres, Merging::Never).first.image, spheres_five.image));
+    EXPECT_FALSE(same_bits(always.image, spheres_five.image));
+}
+
 namespace {
 
 // A path no unbiased sampler here can make (docs/06_photon_mapping.md, "What each method

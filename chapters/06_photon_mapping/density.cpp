@@ -18,8 +18,11 @@ std::optional<Color> photon_term(const Photon& p, const SurfaceInteraction& si, 
     const Vec3 d = p.p - si.p;
     const float K = kernel_weight(kernel, glm::dot(d, d), radius);
     if (!(K > 0.0f)) return std::nullopt;
-    // |wi . n_s| / |wi . n_g|: the camera side's shading cosine over the photons' own.
-    const float cos_geo = std::fabs(glm::dot(p.wi, si.n_geo));
+    // |wi . n_s| / |wi . n_p|: the camera side's shading cosine over the cosine the photon's
+    // density holds, at its own surface (its geometric normal n_p). On a smooth-shaded mesh a
+    // photon from a neighbouring facet can arrive nearly tangent to x's facet: x's n_g would
+    // give it an unbounded weight.
+    const float cos_geo = std::fabs(glm::dot(p.wi, p.n));
     const float shading = cos_geo > 0.0f ? bsdf.abs_cos(p.wi) / cos_geo : 0.0f;
     // K(|y_p - x|) f(wo, wi_p) beta_p: one photon's term of the estimate.
     return K * shading * bsdf.eval(wo, p.wi) * p.beta;

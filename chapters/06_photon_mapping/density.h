@@ -17,7 +17,8 @@
 // proportional to |cos theta_i| (the cosine of the geometry term, which the density of y_p holds,
 // lesson 5's p_A = p(w) |cos| / d^2). With an interpolated shading normal n_s the camera side
 // wants f |wi . n_s| (lesson 4's estimator, lesson 5's join at the camera vertex) where the
-// photons' density holds |wi . n_g|: each photon is weighted by |wi . n_s| / |wi . n_g| (1 on flat
+// photons' density holds |wi . n_p|, the cosine at the photon's own surface (its geometric
+// normal, stored with it): each photon is weighted by |wi . n_s| / |wi . n_p| (1 on flat
 // surfaces); beta itself already carries lesson 5's adjoint correction at every earlier bounce
 // (light_side_scattering).
 //
@@ -58,7 +59,7 @@ RadianceEstimate reflected_radiance(const PhotonGrid& grid, const SurfaceInterac
                                     int light_paths, uint32_t min_vertex = 1,
                                     uint32_t max_vertex = UINT32_MAX);
 
-// One photon's term of the estimate, K(|y_p - x|) f(wo, wi_p) beta_p |wi . n_s| / |wi . n_g|
+// One photon's term of the estimate, K(|y_p - x|) f(wo, wi_p) beta_p |wi . n_s| / |wi . n_p|
 // (not yet divided by N), or none if it does not count at x (its side, or beyond r).
 std::optional<Color> photon_term(const Photon& p, const SurfaceInteraction& si, const Bsdf& bsdf,
                                  const Vec3& wo, Kernel kernel, float radius);

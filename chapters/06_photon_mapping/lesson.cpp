@@ -22,6 +22,11 @@ struct PhotonFlags {
             "pm (photon mapping, a fixed radius), ppm (progressive: the radius "
             "shrinks every pass), bpt (lesson 5), or vcm (vertex connection and "
             "merging: lesson 5's joins and the photons, weighted by MIS)");
+        add_choice_flag(app, "--merging", options.merging,
+                        Choices<Merging>(std::begin(kMergingNames), std::end(kMergingNames)),
+                        "Where vcm merges: auto (only in a scene with a mirror or smooth glass, "
+                        "where a path can need it; elsewhere vcm is bpt, bit for bit), always, "
+                        "or never (bpt)");
         add_path_length_flags(app, options.paths.max_depth, options.paths.roulette_after);
         app.add_option("--radius", options.radius,
                        "The photons' radius in the first pass, in scene units (0: two pixel "

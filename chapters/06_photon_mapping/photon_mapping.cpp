@@ -31,7 +31,23 @@ float default_alpha(PhotonMethod m) {
     return 1.0f;
 }
 
+bool merges_in(const Scene& scene, Merging merging) {
+    switch (merging) {
+        case Merging::Always: return true;
+        case Merging::Never: return false;
+        case Merging::Auto: break;
+    }
+    return scene.contents().delta_materials;
+}
+
 namespace {
+
+// The options with the method that runs: vcm that does not merge in this scene runs as bpt.
+PhotonOptions method_that_runs(const Scene& scene, PhotonOptions options) {
+    if (options.method == PhotonMethod::VertexMerging && !merges_in(scene, options.merging))
+        options.method = PhotonMethod::Bidirectional;
+    return options;
+}
 
 bool uses_photons(PhotonMethod m) {
     return m != PhotonMethod::Bidirectional;
@@ -73,8 +89,9 @@ void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
 PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& options)
     : lights_(scene),
       b_{scene, lights_, scene.camera, scene.width, scene.height},
-      options_(options) {
-    const PhotonMethod m = options.method;
+      options_(method_that_runs(scene, options)),
+      asked_(options.method) {
+    const PhotonMethod m = options_.method;
     passes = true;      // each pass has its photons
     splats = joins(m);  // bpt and vcm trace light onto the pixels it lands on
     alpha_ = options.alpha > 0.0f ? options.alpha : default_alpha(m);
@@ -87,9 +104,19 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
         const BidirectionalModel lesson5(scene, options.paths);
         notes = lesson5.notes;
         biased_because = lesson5.biased_because;
-        notes.insert(notes.begin(),
-                     "method bpt: lesson 5's bidirectional path tracing (vertex connection "
-                     "without merging): the same image, bit for bit");
+        if (asked_ == PhotonMethod::VertexMerging)
+            notes.insert(notes.begin(),
+                         options.merging == Merging::Never
+                             ? "method vcm with --merging never: no merges, so lesson 5's "
+                               "bidirectional path tracing, the same image bit for bit"
+                             : "method vcm, merging left out: the scene has no mirror or smooth "
+                               "glass, so every path has a join and none needs a merge; vcm is "
+                               "lesson 5's bidirectional path tracing here, the same image bit "
+                               "for bit (--merging always merges anyway, at its cost)");
+        else
+            notes.insert(notes.begin(),
+                         "method bpt: lesson 5's bidirectional path tracing (vertex connection "
+                         "without merging): the same image, bit for bit");
         return;
     }
     const bool fixed = alpha_ >= 1.0f;
@@ -112,9 +139,9 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
                                  ": the photons' light is blurred over it however long it renders "
                                  "(--alpha below 1 shrinks it)");
     else
-        notes.push_back(
-            "biased but consistent: the photons' blur shrinks with the radius, "
-            "and with it the bias");
+        consistent_bias.push_back(
+            "the photons' blur over the radius, at every finite number of passes; it shrinks "
+            "with the radius, and with it the bias");
     add_what_it_misses(scene);
     add_path_length_notes(*this, options.paths.max_depth, options.paths.roulette_after);
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
@@ -160,6 +187,9 @@ void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const
 
 Color PhotonMappingModel::sample(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                                  std::vector<Splat>& splats) const {
+    if (uses_photons(options_.method) && pass_.index < 0)
+        throw std::logic_error(
+            "lesson 6 samples pass by pass, after begin_pass traced the photons");
     if (!joins(options_.method)) return photon_mapping(b_, pass_, ray, rng, options_, layers);
     return connect_and_merge(ray, rng, pixel, layers, splats);
 }
@@ -202,7 +232,9 @@ Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, uint32_t p
 }
 
 void PhotonMappingModel::report(Report& report) const {
-    report.set("method", photon_method_name(options_.method));
+    report.set("method", photon_method_name(asked_));
+    if (asked_ == PhotonMethod::VertexMerging)
+        report.set("merging", options_.method == PhotonMethod::VertexMerging);
     if (!uses_photons(options_.method)) return;
     report.set("kernel", kernel_name(options_.kernel));
     report.set("alpha", static_cast<double>(alpha_));

@@ -53,14 +53,27 @@ inline constexpr std::pair<const char*, PhotonMethod> kPhotonMethodNames[] = {
     {"vcm", PhotonMethod::VertexMerging}};
 const char* photon_method_name(PhotonMethod m);
 
+// Where vcm merges (--merging): `auto` only in a scene with a delta surface (a mirror, smooth
+// glass), the only place a path can need a merge (a light path that reaches a diffuse surface
+// through a delta vertex, seen through another: L S+ D S+ E, which no join can make); in any
+// other scene every path has a join, and vcm is bpt, lesson 5 bit for bit. `always` merges
+// everywhere (to see what merging costs where nothing needs it); `never` is bpt.
+enum class Merging { Auto, Always, Never };
+inline constexpr std::pair<const char*, Merging> kMergingNames[] = {
+    {"auto", Merging::Auto}, {"always", Merging::Always}, {"never", Merging::Never}};
+// Whether vcm merges in a scene under `merging`: always, never, or (auto) where it has a delta
+// surface.
+bool merges_in(const Scene& scene, Merging merging);
+
 struct PhotonOptions {
     PhotonMethod method = PhotonMethod::VertexMerging;
     BidirOptions paths;   // path length and Russian roulette, for both subpaths (lesson 5's)
     float radius = 0.0f;  // r_1, in scene units; 0: default_photon_radius (radius.h)
     float alpha = 0.0f;   // the radius's exponent; 0: the method's default (kDefaultAlpha)
     Kernel kernel = Kernel::Constant;
-    bool technique_layers = false;  // layers: the light carried by each kind of technique
-    double max_photon_mb = 4096.0;  // the most memory one pass's photons may take
+    Merging merging = Merging::Auto;  // where vcm merges (kMergingNames)
+    bool technique_layers = false;    // layers: the light carried by each kind of technique
+    double max_photon_mb = 4096.0;    // the most memory one pass's photons may take
 };
 
 // The radius of pass k (k = 0, 1, ...): r_1 (k + 1)^((alpha - 1) / 2). alpha = 1 keeps it.
@@ -105,6 +118,7 @@ Color merges(const PhotonPass& pass, std::span<const Vertex> camera, const Photo
 // Lesson 6 as a model the render loop runs. `scene` must outlive it.
 class PhotonMappingModel final : public Model {
 public:
+    // vcm where it does not merge (merges_in) is made as bpt, and says so in its notes.
     PhotonMappingModel(const Scene& scene, const PhotonOptions& options);
     // Lesson 6 renders pass by pass (its photons are the pass's; vcm's pixel takes the pass's
     // light subpath of its index); bpt and vcm splat, pm and ppm do not.
@@ -122,8 +136,9 @@ private:
                             std::vector<Splat>& splats) const;
 
     LightSampler lights_;
-    Bidir b_;  // refers to lights_
-    PhotonOptions options_;
+    Bidir b_;                // refers to lights_
+    PhotonOptions options_;  // with the method it runs (vcm that does not merge: bpt)
+    PhotonMethod asked_;     // the method asked for (the report's "method")
     float r1_ = 0.0f, alpha_ = 1.0f;
     // The current pass's photons (begin_pass) and what the report says of the passes (summed over
     // every render of this model: the command line makes one model per run).

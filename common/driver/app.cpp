@@ -1,7 +1,7 @@
 // The shared lesson driver. A run is a few named steps, in this order: read the command line
 // (options.cpp), load the scene (with any --naive methods), read the reference and make the
 // lesson's model (run_inputs.cpp), render, measure, and write the images and the report
-// (run_outputs.cpp); this file runs them, and stops a render cleanly on Ctrl-C (see app.h).
+// (run_outputs.cpp); this file runs them, and stops a render cleanly on Ctrl-C.
 #include "driver/app.h"
 
 #include <signal.h>
@@ -72,6 +72,8 @@ void print_run_header(const Lesson& lesson, const CommonOptions& o, const RunInp
     for (const std::string& note : in.model->notes) std::cerr << "  note: " << note << "\n";
     for (const std::string& why : in.model->biased_because)
         std::cerr << "  biased: " << why << "\n";
+    for (const std::string& why : in.model->consistent_bias)
+        std::cerr << "  biased but consistent: " << why << "\n";
 }
 
 RunResult render_run(const CommonOptions& o, const RunInputs& in) {

@@ -2,7 +2,7 @@
 // flags, and the model it makes for a scene. A lesson declares its flags once, in one struct of
 // its own (chapters/NN_*/lesson.cpp), next to their help text: the struct's bind() hands each
 // flag to CLI11 bound to a member, and its make_model() makes the model from their values. The
-// command line, the studio and the report (driver/app.h's image_options) all read that one
+// command line, the studio and the report (driver/run.h's image_options) all read that one
 // parser. The models themselves know nothing of flags (render/model.h).
 #pragma once
 

@@ -1,12 +1,12 @@
 // The lesson driver's first step: the command line. The flags every lesson shares, a part's
 // --samples and --pixels, and the options that change the image, as a part's header keeps them
-// (see app.h).
+// (see run.h).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
 
 #include "driver/run.h"
-#include "farm/part.h"
+#include "farm/part_header.h"
 #include "io/input_error.h"
 #include "io/scene_file.h"
 

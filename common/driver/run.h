@@ -3,6 +3,7 @@
 // and what a run renders with, made before any rendering (run_inputs.cpp).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -70,7 +71,12 @@ struct RunInputs {
 void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in);
 // Why this run's image differs from the rendering equation's however long it renders: the
 // model's reasons, --clamp and --naive (the report's "bias").
+// The model's reasons, --clamp and --naive, then what the model converges to only in the limit
+// (Model::consistent_bias).
 std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in);
+// Whether the run converges to the rendering equation's image however biased its finite
+// renders are (the report's "consistent"): no reason of the model's, no --clamp, no --naive.
+bool run_consistent(const CommonOptions& o, const RunInputs& in);
 // The render loop's settings for these options (no stop flag, no progress display).
 RenderSettings render_settings(const CommonOptions& o);
 

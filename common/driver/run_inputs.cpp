@@ -1,6 +1,6 @@
 // The lesson driver's second step: everything a run renders with, made before any rendering
 // (the scene with its --naive methods and --albedo, the reference, the model), so that bad input
-// stops the run before it renders (see app.h).
+// stops the run before it renders (see run.h).
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -139,7 +139,12 @@ std::vector<std::string> run_bias(const CommonOptions& o, const RunInputs& in) {
     std::vector<std::string> bias = in.model->biased_because;
     if (o.clamp > 0.0f) bias.push_back("--clamp: bright samples are scaled down");
     if (in.scene.naive.any()) bias.push_back("--naive: the naive methods are wrong on purpose");
+    bias.insert(bias.end(), in.model->consistent_bias.begin(), in.model->consistent_bias.end());
     return bias;
+}
+
+bool run_consistent(const CommonOptions& o, const RunInputs& in) {
+    return in.model->biased_because.empty() && !(o.clamp > 0.0f) && !in.scene.naive.any();
 }
 
 }  // namespace lessons

@@ -86,6 +86,19 @@ double mrays_per_second(const RenderStats& s) {
     return s.seconds > 0 ? s.rays / s.seconds * 1e-6 : 0.0;
 }
 
+namespace {
+
+// Whether the run's expected image differs from the rendering equation's, whether it converges
+// to it all the same, and why.
+void add_bias(Report& report, const CommonOptions& o, const RunInputs& in) {
+    const std::vector<std::string> bias = run_bias(o, in);
+    report.set("biased", !bias.empty());
+    report.set("consistent", run_consistent(o, in));
+    report.set("bias", bias);
+}
+
+}  // namespace
+
 void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInputs& in,
                       const RunResult& run, const std::optional<ErrorMetrics>& error,
                       const std::vector<std::string>& shares) {
@@ -107,9 +120,7 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
         report.set("part", true);
     }
     report.set("firefly_pixels", r.firefly_pixels);
-    const std::vector<std::string> bias = run_bias(o, in);
-    report.set("biased", !bias.empty());
-    report.set("bias", bias);
+    add_bias(report, o, in);
     if (o.clamp > 0.0f) {
         report.set("clamp", static_cast<double>(o.clamp));
         report.set("clamped_samples", r.clamped_samples);
@@ -141,6 +152,7 @@ void write_run_report(const Lesson& lesson, const CommonOptions& o, const RunInp
     }
     report.set("notes", in.model->notes);
     if (!shares.empty()) report.set("layers", shares);
+    // Every model rendered in passes reports it (pm and ppm: 0, they splat nothing).
     if (in.model->passes) report.set("splat_bytes", static_cast<uint64_t>(r.splat_bytes));
     in.model->report(report);
     report.write(o.report);

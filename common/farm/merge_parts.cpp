@@ -1,4 +1,4 @@
-// Joining parts (see merge.h).
+// Joining parts (see merge_parts.h).
 #include "farm/merge_parts.h"
 
 #include <algorithm>

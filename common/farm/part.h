@@ -9,7 +9,6 @@
 // and the counts. A checksum over all of it refuses a damaged or truncated file.
 #pragma once
 
-#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>

@@ -27,8 +27,9 @@ namespace lessons {
 
 // Light that a sample adds to some pixel of the image, as its share of film `film`.
 struct Splat {
-    uint32_t pixel;  // row-major index
-    uint32_t film;   // 0: the image; 1 + k: layer k
+    uint32_t
+        pixel;  // row-major index in the film (the whole image: a model that splats takes no crop)
+    uint32_t film;  // 0: the image; 1 + k: layer k
     Color value;
 };
 
@@ -77,6 +78,11 @@ public:
     // samples it takes (its bias); empty when it converges to the true image. Printed, and in
     // the report as "biased" and "bias".
     std::vector<std::string> biased_because;
+    // Why the model's expected image after any finite number of samples differs from the
+    // rendering equation's, where it still converges to it (biased but consistent: ppm's and
+    // vcm's shrinking radius), with how the bias shrinks. Printed, and in the report's "bias";
+    // "biased" is then true and "consistent" stays true.
+    std::vector<std::string> consistent_bias;
 };
 
 }  // namespace lessons

@@ -192,6 +192,8 @@ size_t add_pass(std::span<Film> films, std::vector<std::vector<Color>>& pass,
     for (const std::vector<Splat>& splats : tile_splats) {  // in tile order
         bytes += splats.capacity() * sizeof(Splat);
         for (const Splat& splat : splats) {
+            if (splat.film >= films.size() || splat.pixel >= pass[0].size())
+                throw std::logic_error("render: a splat outside the image or its layers");
             // A non-finite splat would spoil the whole sample of the pixel it lands on:
             // counted and left out on its own instead.
             if (is_finite(splat.value))
@@ -257,14 +259,14 @@ int resolve_thread_count(int requested) {
 
 RenderStats render(const Camera& camera, std::span<Film> films, const RenderSettings& settings,
                    const Model& model, int sample_begin, int sample_end) {
+    if (films.size() != 1 + model.layer_names.size())
+        throw std::logic_error("render: one film for the image and one per layer of the model");
     if (model.splats && !model.passes)
         throw std::logic_error("render: a model that splats renders in passes");
     if (model.splats && settings.image_width > 0 &&
         (settings.image_width != films[0].width() || settings.image_height != films[0].height()))
         throw std::logic_error(
             "render: splats land anywhere, so a model that splats takes no crop");
-    if (films.size() != 1 + model.layer_names.size())
-        throw std::logic_error("render: one film for the image and one per layer of the model");
     return model.passes ? render_passes(camera, films, settings, model, sample_begin, sample_end)
                         : render_pixels(camera, films, settings, model, sample_begin, sample_end);
 }

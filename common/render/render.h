@@ -19,9 +19,10 @@
 //   samples of the passes before it.
 //
 // How the lessons to come fit it: a Metropolis chain owns the order of its samples, so its model
-// renders in passes and runs its chains' mutations of pass k in begin_pass (on settings.threads
-// threads, chain by chain, each from its own seed), splatting into an image of the pass that
-// sample() then reads at `pixel`; media change what sample() traces, not the loop.
+// renders in passes, pass k being a fixed group of chains that begin_pass runs whole (on
+// settings.threads threads, each chain from its own seed, their splats summed in chain order
+// into an image of the pass that sample() then reads at `pixel`); media change what sample()
+// traces, not the loop (docs/architecture.md).
 #pragma once
 
 #include <cstdint>
@@ -44,7 +45,8 @@ struct RenderStats {
 
 // Adds samples [sample_begin, sample_end) of every pixel to the films: films[0] receives the
 // radiance, films[1 + k] the model's layer k. In the model's order (above); throws
-// std::logic_error for a model that splats without passes, or that splats into a crop.
+// std::logic_error for films that are not one per image and layer, for a model that splats
+// without passes or into a crop, and for a splat outside the image or its layers.
 RenderStats render(const Camera& camera, std::span<Film> films, const RenderSettings& settings,
                    const Model& model, int sample_begin, int sample_end);
 

@@ -16,7 +16,8 @@ struct RenderSettings {
     bool jitter = true;    // uniformly jittered position in the pixel; false: the pixel center
     bool progress = true;  // progress on stderr
     // Set (e.g. by a signal handler) to stop: workers take no new tile, and the render returns
-    // with the tiles in progress finished. Pixels of untouched tiles then lack this pass.
+    // with the tiles in progress finished. Pixel by pixel, pixels of untouched tiles then lack
+    // these samples; pass by pass, the interrupted pass is dropped whole (render/render.h).
     const std::atomic<bool>* stop = nullptr;
     float clamp = 0.0f;  // > 0: clamp every sample's luminance to this (biased; Film::set_clamp)
     // Where each sample's random numbers come from: independent (PCG32), or a stratified sequence
