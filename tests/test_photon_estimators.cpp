@@ -268,15 +268,17 @@ TEST(PhotonMapping, IsTheSameForAnyNumberOfThreads) {
     // subpath from its own random numbers (photons.h), and the grid is built by a stable sort
     // (photon_map.h); the pixels' samples and splats are the render loop's (render.h). So the
     // image, its variance and every technique image are the same bits on 1, 2 and 3 threads,
-    // for vcm (joins, merges, light tracing) and ppm (a radius that changes every pass).
+    // for vcm (joins, merges, light tracing), ppm (a radius that changes every pass) and vpl (the
+    // pass's virtual lights).
     const Scene scene = small_cornell_spheres();
-    for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive}) {
+    for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive,
+                                      PhotonMethod::VirtualLights}) {
         const PhotonOptions options = with_layers(method);
         std::vector<RenderResult> results;
         for (const int threads : {1, 2, 3})
             results.push_back(render_scene(scene, PhotonMappingModel(scene, options), 4,
                                            test::quiet_settings(94, threads)));
-        ASSERT_EQ(results[0].layers.size(), method == PhotonMethod::VertexMerging ? 3u : 2u);
+        ASSERT_EQ(results[0].layers.size(), method == PhotonMethod::Progressive ? 2u : 3u);
         EXPECT_GT(test::image_mean(results[0].image, results[0].variance).first, 0.0);
         for (size_t k = 1; k < results.size(); ++k) {
             const char* name = photon_method_name(method);
@@ -294,11 +296,12 @@ TEST(PhotonMapping, PassesSplitAcrossPartsMergeIntoTheSingleRun) {
     // A render split by sample ranges (docs/farm.md): pass k's photons and radius depend on k
     // alone (begin_pass), so a part that renders passes [2, 4) with a model of its own makes the
     // same samples as the single run's passes 2 and 3. The films of [0, 2) and [2, 4), added,
-    // hold the single run's sums exactly (film.h) and give its image bit for bit, for vcm and
-    // ppm, with their technique images.
+    // hold the single run's sums exactly (film.h) and give its image bit for bit, for vcm, ppm
+    // and vpl, with their technique images.
     const Scene scene = small_cornell_spheres();
     const RenderSettings settings = test::quiet_settings(95);
-    for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive}) {
+    for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive,
+                                      PhotonMethod::VirtualLights}) {
         const char* name = photon_method_name(method);
         const PhotonOptions options = with_layers(method);
         const PhotonMappingModel single_model(scene, options);

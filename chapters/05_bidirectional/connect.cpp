@@ -87,7 +87,8 @@ Color camera_sees(const Bidir& b, const Vertex& y, std::optional<uint32_t>& pixe
     return L;
 }
 
-// s >= 2, t >= 2: a shadow ray between y and z.
+}  // namespace
+
 Color join(const Bidir& b, const Vertex& y, const Vertex& z) {
     if (!y.connectible() || !z.connectible() || y.type != VertexType::Surface ||
         z.type != VertexType::Surface)
@@ -105,8 +106,6 @@ Color join(const Bidir& b, const Vertex& y, const Vertex& z) {
         return Color(0.0f);
     return L;
 }
-
-}  // namespace
 
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
                        std::span<const Vertex> camera, int t, Rng& rng, bool weighted,

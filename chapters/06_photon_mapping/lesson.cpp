@@ -20,8 +20,9 @@ struct PhotonFlags {
             app, "--method", options.method,
             Choices<PhotonMethod>(std::begin(kPhotonMethodNames), std::end(kPhotonMethodNames)),
             "pm (photon mapping, a fixed radius), ppm (progressive: the radius "
-            "shrinks every pass), bpt (lesson 5), or vcm (vertex connection and "
-            "merging: lesson 5's joins and the photons, weighted by MIS)");
+            "shrinks every pass), bpt (lesson 5), vcm (vertex connection and "
+            "merging: lesson 5's joins and the photons, weighted by MIS), or vpl (instant "
+            "radiosity: the light subpaths' vertices as virtual point lights, connected)");
         add_choice_flag(app, "--merging", options.merging,
                         Choices<Merging>(std::begin(kMergingNames), std::end(kMergingNames)),
                         "Where vcm merges: auto (only in a scene with a mirror or smooth glass, "
@@ -44,7 +45,21 @@ struct PhotonFlags {
         app.add_flag("--techniques", options.technique_layers,
                      "Also write the light of each kind of technique as images, adding up to "
                      "the image: PREFIX_connection, PREFIX_merging and PREFIX_light_tracing "
-                     "(bpt, vcm), PREFIX_direct and PREFIX_photons (pm, ppm)");
+                     "(bpt, vcm), PREFIX_direct and PREFIX_photons (pm, ppm), PREFIX_direct, "
+                     "PREFIX_vpl and PREFIX_compensation (vpl)");
+        app.add_option("--vpls", options.vpls,
+                       "vpl: light subpaths per pass; their vertices are the pass's virtual "
+                       "point lights, each joined to every pixel sample by a shadow ray")
+            ->check(CLI::Range(1, 1 << 20))
+            ->capture_default_str();
+        app.add_option("--vpl-clamp", options.vpl_clamp,
+                       "vpl: the cap on each connection's G = cos cos / d^2, in 1 / length^2 (0: "
+                       "none, unbiased but blotchy; default: 100 / D^2, D the scene box's "
+                       "diagonal)")
+            ->check(CLI::NonNegativeNumber);
+        app.add_flag("--vpl-compensate", options.vpl_compensate,
+                     "vpl: restore the light the cap removes by a BSDF sample (Kollig and Keller "
+                     "2004), which makes the image unbiased");
         app.add_option("--max-photon-mb", options.max_photon_mb,
                        "The most memory one pass's light subpaths and photons may take, in MiB")
             ->check(CLI::PositiveNumber)
@@ -60,8 +75,9 @@ struct PhotonFlags {
 Lesson photon_mapping_lesson() {
     return lesson_with_flags<PhotonFlags>(
         "06_photon_mapping",
-        "Lesson 6, photons: photon mapping, progressive photon mapping, and vertex connection "
-        "and merging (lesson 5's joins and the photons, weighted by MIS)",
+        "Lesson 6, photons: photon mapping, progressive photon mapping, vertex connection "
+        "and merging (lesson 5's joins and the photons, weighted by MIS), and instant radiosity "
+        "(virtual point lights, connected instead of merged)",
         16);
 }
 

@@ -23,7 +23,8 @@ float pass_radius(float r1, float alpha, int k) {
 
 float default_alpha(PhotonMethod m) {
     switch (m) {
-        case PhotonMethod::PhotonMapping: return 1.0f;
+        case PhotonMethod::PhotonMapping:
+        case PhotonMethod::VirtualLights: return 1.0f;
         case PhotonMethod::Progressive: return 2.0f / 3.0f;
         case PhotonMethod::Bidirectional:
         case PhotonMethod::VertexMerging: return 0.75f;
@@ -68,12 +69,23 @@ std::string number(double v) {
 void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
     const SceneContents contents = scene.contents();
     const bool joined = options_.method == PhotonMethod::VertexMerging;
+    const bool virtual_lights = options_.method == PhotonMethod::VirtualLights;
     if (contents.environment)
         (joined ? notes : biased_because)
-            .push_back(joined ? "the sky leaves no photons: its light is found by the joins "
-                                "(camera paths escaping, light samples), as in lesson 5"
-                              : "the sky leaves no photons: its light after a bounce is missing "
-                                "(only the light sample at the first diffuse vertex sees it)");
+            .push_back(joined           ? "the sky leaves no photons: its light is found by the "
+                                          "joins (camera paths escaping, light samples), as in "
+                                          "lesson 5"
+                       : virtual_lights ? "the sky starts no light subpaths, so no virtual light "
+                                          "carries its light: after a bounce it is missing (only "
+                                          "the light sample at the first diffuse vertex sees it)"
+                                        : "the sky leaves no photons: its light after a bounce is "
+                                          "missing (only the light sample at the first diffuse "
+                                          "vertex sees it)");
+    if (virtual_lights && contents.delta_materials)
+        biased_because.push_back(
+            "light that reaches the first diffuse point the camera sees off a mirror or through "
+            "glass (a caustic, S+ D S* E) is missing: virtual lights lie on non-delta surfaces "
+            "only, and a light sample cannot pass through glass");
     if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
             "a point or directional light seen in a mirror or through glass is missing: a delta "
@@ -82,8 +94,9 @@ void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
             "the photons')");
     if (contents.point_light_in_view && !joined)
         biased_because.push_back(
-            "a point light in view is missing: no camera ray hits a point, and photon mapping "
-            "does not join the light to the camera (vcm and bpt do)");
+            std::string("a point light in view is missing: no camera ray hits a point, and ") +
+            (virtual_lights ? "instant radiosity" : "photon mapping") +
+            " does not join the light to the camera (vcm and bpt do)");
 }
 
 PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& options)
@@ -98,7 +111,14 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
     r1_ = options.radius > 0.0f ? options.radius : default_photon_radius(scene);
     if (options.technique_layers)
         layer_names = joins(m) ? std::vector<std::string>{"connection", "merging", "light_tracing"}
-                               : std::vector<std::string>{"direct", "photons"};
+                      : m == PhotonMethod::VirtualLights
+                          ? std::vector<std::string>{"direct", "vpl", "compensation"}
+                          : std::vector<std::string>{"direct", "photons"};
+    if (m == PhotonMethod::VirtualLights) {
+        clamp_ = options.vpl_clamp >= 0.0f ? options.vpl_clamp : default_vpl_clamp(scene);
+        add_vpl_notes(scene);
+        return;
+    }
     if (m == PhotonMethod::Bidirectional) {
         // Lesson 5's model says what it ignores and misses here: the same words, the same image.
         const BidirectionalModel lesson5(scene, options.paths);
@@ -147,26 +167,56 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }
 
+// Instant radiosity's notes: the method, the cap and what it does to the image, and what virtual
+// lights cannot find.
+void PhotonMappingModel::add_vpl_notes(const Scene& scene) {
+    notes.push_back("method vpl: instant radiosity, " + std::to_string(options_.vpls) +
+                    " light subpaths per pass whose vertices are virtual point lights, each "
+                    "joined to the first diffuse camera vertex by a shadow ray; direct light by "
+                    "a light sample there");
+    const std::string cap = "the cap " + number(clamp_) + " on G = cos cos / d^2";
+    if (!(clamp_ > 0.0f))
+        notes.push_back("no cap on G (--vpl-clamp 0): unbiased, with bright blotches where "
+                        "virtual lights lie near the points they light (corners)");
+    else if (options_.vpl_compensate)
+        notes.push_back(cap + ", compensated (--vpl-compensate): a BSDF sample restores what the "
+                              "cap removes, so the image is unbiased");
+    else
+        biased_because.push_back(cap + ": connections shorter than about " +
+                                 number(1.0 / std::sqrt(clamp_)) +
+                                 " lose light (darker corners and contact shadows); "
+                                 "--vpl-compensate restores it, --vpl-clamp 0 removes the cap");
+    add_what_it_misses(scene);
+    add_path_length_notes(*this, options_.paths.max_depth, options_.paths.roulette_after);
+    if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
+}
+
 void PhotonMappingModel::begin_pass(int k, const RenderSettings& settings) const {
     if (!uses_photons(options_.method) || (pass_.index == k && pass_.seed == settings.seed)) return;
     const int longest = longest_path(options_.paths.max_depth);
     PhotonPass& pass = pass_;
     pass.grid = PhotonGrid{};  // the last pass's grid back first; its light subpaths' arrays are
                                // traced into again
+    pass.virtual_lights.clear();  // they point into those arrays
     pass.index = -1;           // no pass until this one is whole
     pass.radius = pass_radius(r1_, alpha_, k);
     // vcm joins the light subpaths' vertices and weighs each photon by them; photon mapping
     // needs only the photons.
     const bool merging = options_.method == PhotonMethod::VertexMerging;
-    trace_photons(b_, settings.seed, k, b_.width * b_.height, longest,
-                  options_.paths.roulette_after, settings.threads, merging, pass.paths);
+    const bool virtual_lights = options_.method == PhotonMethod::VirtualLights;
+    trace_photons(b_, settings.seed, k, virtual_lights ? options_.vpls : b_.width * b_.height,
+                  longest, options_.paths.roulette_after, settings.threads,
+                  merging || virtual_lights, pass.paths);
     rays_ += pass.paths.rays;
     if (merging) {
         const double eta =
             static_cast<double>(std::max(pass.paths.count, 1)) * kPi * pass.radius * pass.radius;
         weigh_photons(b_, pass.paths, eta, settings.threads);
     }
-    pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
+    if (virtual_lights)
+        pass.virtual_lights = lessons::virtual_lights(pass.paths);
+    else
+        pass.grid = PhotonGrid(pass.paths.photons, pass.radius, settings.threads);
     const size_t bytes = pass.bytes();  // the subpaths, the photons and the grid's copy of them
     if (bytes > options_.max_photon_mb * 1048576.0) {
         pass = PhotonPass{};  // nothing of a refused pass is kept, or reused
@@ -190,6 +240,9 @@ Color PhotonMappingModel::sample(const Ray& ray, Rng& rng, uint32_t pixel, std::
     if (uses_photons(options_.method) && pass_.index < 0)
         throw std::logic_error(
             "lesson 6 samples pass by pass, after begin_pass traced the photons");
+    if (options_.method == PhotonMethod::VirtualLights)
+        return instant_radiosity(b_, pass_.virtual_lights, pass_.paths.count, ray, rng,
+                                 {options_.paths, clamp_, options_.vpl_compensate}, layers);
     if (!joins(options_.method)) return photon_mapping(b_, pass_, ray, rng, options_, layers);
     return connect_and_merge(ray, rng, pixel, layers, splats);
 }
@@ -236,6 +289,14 @@ void PhotonMappingModel::report(Report& report) const {
     if (asked_ == PhotonMethod::VertexMerging)
         report.set("merging", options_.method == PhotonMethod::VertexMerging);
     if (!uses_photons(options_.method)) return;
+    if (options_.method == PhotonMethod::VirtualLights) {
+        report.set("vpl_paths", static_cast<uint64_t>(options_.vpls));
+        report.set("vpl_clamp", static_cast<double>(clamp_));
+        report.set("vpl_compensate", options_.vpl_compensate);
+        report.set("photon_bytes", static_cast<uint64_t>(most_bytes_));
+        report.set("vpls_per_pass", passes_ > 0 ? static_cast<double>(photons_) / passes_ : 0.0);
+        return;
+    }
     report.set("kernel", kernel_name(options_.kernel));
     report.set("alpha", static_cast<double>(alpha_));
     report.set("radius_first", static_cast<double>(r1_));

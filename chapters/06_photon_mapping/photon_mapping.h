@@ -21,7 +21,9 @@
 //        strategy of lesson 5 and a merge at every diffuse vertex of the camera path, each
 //        weighted by MIS over all of them (mis.h: a merge is strategy j's density times
 //        p_L(x_j) N pi r^2), with the progressive radius;
-//   bpt  vcm without merging: lesson 5 itself, bit for bit.
+//   bpt  vcm without merging: lesson 5 itself, bit for bit;
+//   vpl  instant radiosity (Keller 1997): the light subpaths' vertices as virtual point lights,
+//        *connected* to the first diffuse camera vertex rather than merged with it (vpl.h).
 // Pass k's photons come from N = width x height light subpaths drawn from (seed, k, subpath)
 // (photons.h), traced before the pass (begin_pass), so the image is the same for any number of
 // threads and any split of the passes across parts of a render (docs/farm.md). vcm joins each
@@ -39,18 +41,20 @@
 #include "06_photon_mapping/kernel.h"
 #include "06_photon_mapping/photon_map.h"
 #include "06_photon_mapping/photons.h"
+#include "06_photon_mapping/vpl.h"
 #include "render/model.h"
 
 namespace lessons {
 
-enum class PhotonMethod { PhotonMapping, Progressive, Bidirectional, VertexMerging };
+enum class PhotonMethod { PhotonMapping, Progressive, Bidirectional, VertexMerging, VirtualLights };
 
 // The methods by name (the --method flag's choices).
 inline constexpr std::pair<const char*, PhotonMethod> kPhotonMethodNames[] = {
     {"pm", PhotonMethod::PhotonMapping},
     {"ppm", PhotonMethod::Progressive},
     {"bpt", PhotonMethod::Bidirectional},
-    {"vcm", PhotonMethod::VertexMerging}};
+    {"vcm", PhotonMethod::VertexMerging},
+    {"vpl", PhotonMethod::VirtualLights}};
 const char* photon_method_name(PhotonMethod m);
 
 // Where vcm merges (--merging): `auto` only in a scene with a delta surface (a mirror, smooth
@@ -65,6 +69,12 @@ inline constexpr std::pair<const char*, Merging> kMergingNames[] = {
 // surface.
 bool merges_in(const Scene& scene, Merging merging);
 
+// Light subpaths per pass for vpl: each pixel sample joins every one of their virtual lights, so
+// a sample's cost grows with it, while fewer per pass means more passes, each with lights of its
+// own, in the same time. 16 gives about 36 virtual lights per pass in the Cornell box with
+// spheres; there 4 and 16 reach the same error in 20 s and 64 a larger one (docs/06_photon_mapping.md).
+inline constexpr int kDefaultVplPaths = 16;
+
 struct PhotonOptions {
     PhotonMethod method = PhotonMethod::VertexMerging;
     BidirOptions paths;   // path length and Russian roulette, for both subpaths (lesson 5's)
@@ -74,6 +84,11 @@ struct PhotonOptions {
     Merging merging = Merging::Auto;  // where vcm merges (kMergingNames)
     bool technique_layers = false;    // layers: the light carried by each kind of technique
     double max_photon_mb = 4096.0;    // the most memory one pass's photons may take
+    // Instant radiosity (vpl.h): light subpaths per pass, the cap on G (< 0: default_vpl_clamp;
+    // 0: none), and whether to compensate for it.
+    int vpls = kDefaultVplPaths;
+    float vpl_clamp = -1.0f;
+    bool vpl_compensate = false;
 };
 
 // The radius of pass k (k = 0, 1, ...): r_1 (k + 1)^((alpha - 1) / 2). alpha = 1 keeps it.
@@ -88,8 +103,11 @@ struct PhotonPass {
     uint64_t seed = 0;
     float radius = 0.0f;
     LightPaths paths;
-    PhotonGrid grid;
-    size_t bytes() const { return paths.bytes() + grid.bytes(); }
+    PhotonGrid grid;                           // pm, ppm, vcm
+    std::vector<VirtualLight> virtual_lights;  // vpl: into paths
+    size_t bytes() const {
+        return paths.bytes() + grid.bytes() + virtual_lights.size() * sizeof(VirtualLight);
+    }
 };
 
 // Photon mapping at the first diffuse vertex (pm and ppm): one sample of the pixel of `ray`.
@@ -129,9 +147,11 @@ public:
     void report(Report& report) const override;
 
     float alpha() const { return alpha_; }
+    float vpl_clamp() const { return clamp_; }
 
 private:
     void add_what_it_misses(const Scene& scene);
+    void add_vpl_notes(const Scene& scene);
     Color connect_and_merge(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                             std::vector<Splat>& splats) const;
 
@@ -140,6 +160,7 @@ private:
     PhotonOptions options_;  // with the method it runs (vcm that does not merge: bpt)
     PhotonMethod asked_;     // the method asked for (the report's "method")
     float r1_ = 0.0f, alpha_ = 1.0f;
+    float clamp_ = 0.0f;  // vpl's cap on G
     // The current pass's photons (begin_pass) and what the report says of the passes (summed over
     // every render of this model: the command line makes one model per run).
     mutable PhotonPass pass_;
