@@ -13,7 +13,8 @@
 #      stratified sampler;
 #   4. plot MSE against seconds, log-log, every run on one chart (gnuplot: SVG and PNG);
 #   5. estimate each run's converged error, its squared bias (MSE minus the variances of the run
-#      and of the reference), with the reasons its model gives;
+#      and of the reference), by batch means over 8 renders with seeds of their own, each of an
+#      eighth of the run's samples (scripts/converged_error.sh), with the reasons its model gives;
 #   6. write out/index.html: a static page (no server needed) with the images side by side, a
 #      flip/slider comparison, the error images, the chart, the converged-bias table and a table
 #      of the figures.
@@ -48,18 +49,8 @@ cd "$ROOT"
 BIN="$BUILD/bin"
 # field, list_field, reference_probe, shipped_reference_fits, render_reference
 source "$ROOT/scripts/references.sh"
-# A field of compare's one-line JSON.
-json_number() { sed -n "s/.*\"$2\": \([-0-9.e+]*\).*/\1/p" "$1"; }
-# A run's converged error from its compare line: bias^2 with its standard error, or "0 within
-# noise" when it lies within two standard errors of 0 (an unbiased run's, of either sign).
-converged_error() {
-    awk -v b="$(json_number "$1" bias2)" -v se="$(json_number "$1" bias2_se)" 'BEGIN {
-        if (b == "") { print "?"; exit }
-        if (se == "") se = 0
-        if (b < 0 ? -b <= 2 * se : b <= 2 * se) printf "0 within noise (%.3g ± %.2g)\n", b, se
-        else printf "%.3g ± %.2g\n", b, se
-    }'
-}
+# json_number, batch_converged_error (the converged-bias table's batch means over seeds)
+source "$ROOT/scripts/converged_error.sh"
 
 # Runs: name | lesson | extra flags | label on the chart and in the table. First every lesson of
 # the registry (chapters/lessons.txt) with its defaults, named lessonN; then the estimators the
@@ -85,6 +76,8 @@ RUNS+=(
     # Lesson 6's density estimates: a fixed radius (its bias stays) and a shrinking one.
     "lesson6_pm|06_photon_mapping|--method pm --sampler independent|6 photon mapping (fixed radius)"
     "lesson6_ppm|06_photon_mapping|--method ppm --sampler independent|6 progressive photon mapping"
+    # Instant radiosity: the same light subpaths' vertices connected as virtual lights (capped).
+    "lesson6_vpl|06_photon_mapping|--method vpl --sampler independent|6 instant radiosity (virtual lights)"
     # The lessons' default sampler: stratified, its error falls faster than 1/N on the same chart.
     "lesson4_stratified|04_rendering_equation|--sampler kronecker|4 stratified (kronecker, the default)"
 )
@@ -93,6 +86,7 @@ SCENES=("cornell_spheres|The Cornell box with a mirror and a glass sphere|$SIZE|
         "kajiya_1986|Kajiya 1986: grey objects, green glass balls, a red base|$((SIZE * 4 / 3))|$SIZE")
 
 sections=""
+best_rows=""
 bias_header="<tr><th>lesson</th>"
 declare -A bias_cell
 for entry in "${SCENES[@]}"; do
@@ -138,6 +132,8 @@ for entry in "${SCENES[@]}"; do
 
     # 2-3. Every run with the same time budget, recording error against time.
     plot_lines=""
+    best_mse=""
+    best_label=""
     rows=""
     bias_rows=""
     bias_header+="<th>$title</th>"
@@ -151,10 +147,17 @@ for entry in "${SCENES[@]}"; do
         "$BIN/compare" "$dir/$name.exr" "$reference" --out "$dir/$name" \
             --variance "$dir/${name}_variance.exr" \
             --reference-variance "$reference_variance" > "$dir/$name.compare.json" 2> /dev/null
-        bias2="$(converged_error "$dir/$name.compare.json")"
-        # A stratified run's per-pixel variance assumes independent samples: it overstates the
-        # noise, so MSE minus it says nothing about the bias.
-        case "$flags" in *"--sampler independent"*) ;; *) bias2="n/a (stratified)" ;; esac
+        # 5. Its converged error by batch means: CONVERGED_ERROR_BATCHES renders of independent
+        #    samples with seeds of their own, each of an eighth of this run's samples (at least
+        #    2, for a variance). A stratified run's own variance is not its error: n/a.
+        case "$flags" in
+            *"--sampler independent"*)
+                batch_spp=$(( $(field "$dir/$name.json" spp) / CONVERGED_ERROR_BATCHES ))
+                [ "$batch_spp" -ge 2 ] || batch_spp=2
+                bias2="$(batch_converged_error "$lesson" "scenes/$scene.toml" "$batch_spp" \
+                    "$reference_dir" "$dir/$name" $size ${flags/--sampler independent/})" ;;
+            *) bias2="n/a (stratified)" ;;
+        esac
         echo "lessons: $scene: $label: $(field "$dir/$name.json" spp) spp in $(field "$dir/$name.json" seconds) s, mse $(field "$dir/$name.json" mse), converged mse (bias^2) $bias2"
         why="$(list_field "$dir/$name.json" bias)"
         # Lesson 6: the photons' radius, from the first pass to the last (the bias falls with it).
@@ -162,12 +165,19 @@ for entry in "${SCENES[@]}"; do
         [ -n "$radius" ] && why="${why:+$why; }photon radius $(json_number "$dir/$name.json" radius_first) to $radius"
         bias_rows+="<tr><td>$label</td><td>$bias2</td><td>$(field "$dir/$name.json" mse)</td><td class=\"why\">${why:-unbiased here}</td></tr>"
         bias_cell["$name|$scene"]="$bias2"
+        mse="$(field "$dir/$name.json" mse)"
+        if [ -z "$best_mse" ] || awk -v a="$mse" -v b="$best_mse" 'BEGIN { exit !(a < b) }'; then
+            best_mse="$mse"
+            best_label="$label"
+        fi
         plot_lines+="'$dir/$name.csv' using 1:3 with linespoints title '$label', "
         rows+="<tr><td>$label</td><td>$(field "$dir/$name.json" seconds)</td><td>$(field "$dir/$name.json" spp)</td><td>$(field "$dir/$name.json" mrays_per_second)</td><td>$(field "$dir/$name.json" mse)</td><td>$(field "$dir/$name.json" relmse)</td><td>$(field "$dir/$name.json" efficiency)</td></tr>"
         gallery+="<figure><img src=\"$scene/$name.png\" alt=\"$label\"><figcaption>$label</figcaption></figure>"
         options+="<option value=\"$scene/$name.png\">$label</option>"
     done
     options+="<option value=\"$scene/reference.png\">reference</option>"
+    echo "lessons: $scene: the lowest error at $BUDGET s: $best_label (mse $best_mse)"
+    best_rows+="<tr><td>$title</td><td>$best_label</td><td>$best_mse</td></tr>"
 
     # 4. MSE against seconds, log-log, every run on one chart.
     for terminal in "svg size 960,600 dynamic" "pngcairo size 960,600"; do
@@ -200,6 +210,7 @@ EOF
 <section>
 <h2>$title</h2>
 <h3>The ${#LESSONS[@]} lessons, ${BUDGET} s each</h3>
+<p class=\"best\">The lowest error at ${BUDGET} s on this scene: <b>$best_label</b> (MSE $best_mse; every run's in the figures below).</p>
 <div class=\"row\">$lessons_row<figure><img src=\"$scene/reference.png\" alt=\"reference\"><figcaption>reference ($REFERENCE_SPP spp)</figcaption></figure></div>
 <p>The reference: $ref_why; $REFERENCE_SPP samples per pixel, another seed than the runs; $ref_from.</p>
 <h3>Compare any two</h3>
@@ -217,10 +228,14 @@ unbiased one's MSE falls as 1/N, a line of slope -1 here. The lessons' default s
 samples (<code>--sampler kronecker</code>, the line \"4 stratified\"): the same estimator as lesson 4,
 unbiased, whose error falls faster, because its samples cannot clump.</p>
 <h3>Converged error: what more time cannot fix</h3>
-<p>MSE at the budget minus the variances of the run and of the reference (both measured per pixel):
-the squared bias, the MSE each run would converge to, with its standard error (the pixels taken
-as independent). \"0 within noise\" where it lies within two standard errors of 0, as an unbiased
-estimator's does, of either sign; the model's own reasons beside it.</p>
+<p>The squared bias, the MSE each run would converge to: MSE minus the variances of the run and of
+the reference (both measured per pixel, of independent samples), averaged over
+$CONVERGED_ERROR_BATCHES renders with seeds of their own, each of an eighth of the run's samples,
+with the standard error of that mean (batch means: a pass's light paths light many pixels at once,
+so the pixels of one render are not independent). \"0 within noise\" where it lies within
+Student's t (0.05, two-sided) standard errors of 0, as an unbiased estimator's does, of either sign;
+the model's own reasons beside it. For the photon methods it is the bias at an eighth of the
+passes, their radius larger than at the budget.</p>
 <table class=\"bias\"><tr><th>run</th><th>converged MSE (bias&sup2;)</th><th>MSE at ${BUDGET} s</th><th>why (the model's report)</th></tr>$bias_rows</table>
 <h3>Figures</h3>
 <table><tr><th>run</th><th>seconds</th><th>spp</th><th>Mrays/s</th><th>MSE</th><th>relMSE</th><th>efficiency 1/(MSE s)</th></tr>$rows</table>
@@ -260,6 +275,11 @@ measured against a converged global-illumination reference it did not produce. U
 estimators fall on a line of slope -1 in the log-log chart (MSE proportional to 1/time); ray casting and
 Whitted's model flatten at their bias: they converge, but to a different image.
 Generated by <code>scripts/lessons.sh $MODE</code> on $(date -u +%Y-%m-%d).</p>
+<h2>Which method wins where</h2>
+<p>For each scene, the run with the lowest MSE against the reference after ${BUDGET} s (all runs
+below, lessons and estimators alike, one run each at seed 1: a near tie can go either way between
+runs).</p>
+<table><tr><th>scene</th><th>lowest error at ${BUDGET} s</th><th>its MSE</th></tr>$best_rows</table>
 <h2>Converged error of each lesson (squared bias, against the unbiased reference)</h2>
 <p>"Whitted is wrong" as a number: the MSE each lesson converges to, however long it runs. Each
 scene's section below says which estimator rendered its reference and why, and each lesson's
