@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 
+#include "05_bidirectional/mis.h"
 #include "05_bidirectional/subpaths.h"
 
 namespace lessons {
@@ -24,10 +25,10 @@ struct StrategySample {
 };
 
 // Strategy (s, t) for the two subpaths (light has at least s vertices, camera at least t).
-// Draws random numbers only for s = 1 (the light sample).
-// merge_eta > 0: lesson 6's merges count among the techniques of the weight (mis.h).
+// Draws random numbers only for s = 1 (the light sample). `extra`: another technique counted
+// among those of the weight (mis.h), or none.
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
                        std::span<const Vertex> camera, int t, Rng& rng, bool weighted,
-                       double merge_eta = 0.0);
+                       const ExtraTechnique* extra = nullptr);
 
 }  // namespace lessons
