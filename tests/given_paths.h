@@ -2,9 +2,10 @@
 // one (lesson 5's joins, Bidirectional.MisWeightsOfEveryStrategySumToOne; lesson 6's joins and
 // merges, Vcm.WeightsOfEveryJoinAndMergeSumToOne): a path x_0 (the light) ... x_{n-1} (the
 // camera) is made from both ends by subpaths_along (subpaths.h), split at every s, and each
-// split the joins can run (connect.h) is weighed as connect() weighs it; with merging, each
-// merge the photons can make (merging.cpp) as merges() weighs it. The scenes hold every kind of
-// light and vertex the weights treat apart, and each comes with its paths.
+// split the joins can run (connect.h) is weighed as connect() weighs it, with lesson 5's hook
+// for an extra technique (mis.h) where a test gives one (test_vcm.cpp adds the merges). The
+// scenes hold every kind of light and vertex the weights treat apart, and each comes with its
+// paths.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -99,16 +100,20 @@ struct WeightSum {
     int strategies = 0;
     float first = -1.0f;  // the first strategy's weight
     std::vector<float> connections, merges;
+
+    // Adds technique `name`'s weight w.
+    void record(const std::string& name, float w) {
+        if (strategies == 0) first = w;
+        sum += w;
+        terms += (terms.empty() ? "" : ", ") + name + ": " + std::to_string(w);
+        ++strategies;
+    }
 };
 
 // The weights of every strategy that can make `path`, each as connect() weighs it (mis_weight,
-// with merge_eta); with merge_eta > 0 (lesson 6: N pi r^2) also every merge that can make it, as
-// merges() weighs it (merge_weight): at each vertex x_j, 1 <= j <= n - 2, whose BSDF is not a
-// delta, the light subpath x_0 .. x_{j-1} and its vertex at x_j (the photon) merged with the
-// camera subpath x_{n-1} .. x_j (t = n - j). The sky starts no light subpaths, so it makes no
-// photons; nor does a light the sampler never chooses.
+// with `extra` among the techniques if given).
 inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path,
-                                           double merge_eta = 0.0) {
+                                           const ExtraTechnique* extra = nullptr) {
     WeightSum out;
     std::string why;
     const std::optional<GivenSubpaths> sub = subpaths_along(b, path.light, path.points, &why);
@@ -120,12 +125,6 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
     const std::vector<Vertex>& camera = sub->camera;  // camera[j] is x_{n-1-j}
     auto delta = [&](int i) { return camera[n - 1 - i].bsdf->is_delta(); };  // 1 <= i <= n-2
     const bool sky = path.light.infinite, point = path.light.delta_light();
-    auto record = [&](const std::string& name, float w) {
-        if (out.strategies == 0) out.first = w;
-        out.sum += w;
-        out.terms += (out.terms.empty() ? "" : ", ") + name + ": " + std::to_string(w);
-        ++out.strategies;
-    };
     for (int s = 0; s < n; ++s) {
         const int t = n - s;
         // Which joins can run (connect.cpp): not at a mirror or glass; s = 0 only where the
@@ -167,22 +166,10 @@ inline WeightSum weights_of_every_strategy(const Bidir& b, const GivenPath& path
         const std::span<const Vertex> light_part =
             sampled ? std::span<const Vertex>() : std::span<const Vertex>(sub->light).first(s);
         const float w = mis_weight(b, light_part, s, std::span<const Vertex>(camera).first(t), t,
-                                   sampled, end, merge_eta);
+                                   sampled, end, extra);
         EXPECT_TRUE(w >= 0.0f && w <= 1.0f) << path.name << ", s = " << s << ": " << w;
         out.connections.push_back(w);
-        record("s=" + std::to_string(s), w);
-    }
-    if (merge_eta > 0.0 && !sky && sub->light[0].pdf_fwd > 0.0f) {
-        for (int j = 1; j <= n - 2; ++j) {
-            if (delta(j)) continue;  // no photon is left there
-            const int t = n - j;
-            const float w =
-                merge_weight(b, std::span<const Vertex>(sub->light).first(j), j, sub->light[j],
-                             std::span<const Vertex>(camera).first(t), t, merge_eta);
-            EXPECT_TRUE(w >= 0.0f && w <= 1.0f) << path.name << ", merge at " << j << ": " << w;
-            out.merges.push_back(w);
-            record("merge " + std::to_string(j), w);
-        }
+        out.record("s=" + std::to_string(s), w);
     }
     return out;
 }

@@ -10,6 +10,7 @@
 
 #include "05_bidirectional/bidirectional.h"
 #include "05_bidirectional/mis.h"
+#include "06_photon_mapping/merge_weights.h"
 #include "06_photon_mapping/photon_mapping.h"
 #include "06_photon_mapping/radius.h"
 #include "given_paths.h"
@@ -61,22 +62,50 @@ std::vector<test::GivenPath> caustics_seen_through_delta_vertices(const test::Ro
              {entry, exit, under_ball, back_in, front}}};
 }
 
-// The weights of every path in `paths` at merge_eta = 0 (lesson 5) and at the given etas: the
-// joins' and merges' weights sum to 1; adding merges only takes weight from the joins; as eta
-// goes to 0 the joins' weights become lesson 5's and the merges' vanish. Returns the merges'
-// largest weight at each eta (to see that merging took a share).
+// The weights of every technique that can make `path` at eta = N pi r^2: every join, as
+// connect() weighs it with the merges as lesson 5's extra technique (MergeTechnique), and every
+// merge, as merges() weighs it (merge_weight, merge_weights.h): at each vertex x_j,
+// 1 <= j <= n - 2, whose BSDF is not a delta, the light subpath x_0 .. x_{j-1} and its vertex at
+// x_j (the photon) merged with the camera subpath x_{n-1} .. x_j (t = n - j). The sky starts no
+// light subpaths, so it makes no photons; nor does a light the sampler never chooses. At eta = 0
+// no merge counts, and no merge is made.
+test::WeightSum weights_of_every_join_and_merge(const Bidir& b, const test::GivenPath& path,
+                                                double eta) {
+    const MergeTechnique merge_technique(eta);
+    test::WeightSum out = test::weights_of_every_strategy(b, path, &merge_technique);
+    const std::optional<GivenSubpaths> sub = subpaths_along(b, path.light, path.points);
+    if (!sub || !(eta > 0.0) || path.light.infinite || !(sub->light[0].pdf_fwd > 0.0f)) return out;
+    const int n = static_cast<int>(path.points.size()) + 2;
+    const std::span<const Vertex> light(sub->light), camera(sub->camera);  // camera[i]: x_{n-1-i}
+    for (int j = 1; j <= n - 2; ++j) {
+        const int t = n - j;
+        if (camera[t - 1].bsdf->is_delta()) continue;  // no photon is left there
+        const float w = merge_weight(b, light.first(j), j, light[j], camera.first(t), t, eta);
+        EXPECT_TRUE(w >= 0.0f && w <= 1.0f) << path.name << ", merge at " << j << ": " << w;
+        out.merges.push_back(w);
+        out.record("merge " + std::to_string(j), w);
+    }
+    return out;
+}
+
+// The weights of every path in `paths` in lesson 5 (no merges; at eta = 0 the same, bit for bit)
+// and at the given etas: the joins' and merges' weights sum to 1; adding merges only takes weight
+// from the joins; as eta goes to 0 the joins' weights become lesson 5's and the merges' vanish.
+// Returns the merges' largest weight at each eta (to see that merging took a share).
 std::vector<float> expect_joins_and_merges_sum_to_one(const Bidir& b,
                                                       const std::vector<test::GivenPath>& paths,
                                                       const std::vector<double>& etas) {
     std::vector<float> largest(etas.size(), 0.0f);
     for (const test::GivenPath& path : paths) {
-        const test::WeightSum lesson5 = test::weights_of_every_strategy(b, path, 0.0);
-        EXPECT_TRUE(lesson5.merges.empty()) << path.name;
+        const test::WeightSum lesson5 = test::weights_of_every_strategy(b, path);
+        const test::WeightSum at_zero = weights_of_every_join_and_merge(b, path, 0.0);
+        EXPECT_TRUE(at_zero.merges.empty()) << path.name;
+        EXPECT_EQ(at_zero.connections, lesson5.connections) << path.name;
         if (!lesson5.connections.empty()) {
             EXPECT_NEAR(lesson5.sum, 1.0, 1e-5) << path.name << " (" << lesson5.terms << ")";
         }
         for (size_t e = 0; e < etas.size(); ++e) {
-            const test::WeightSum w = test::weights_of_every_strategy(b, path, etas[e]);
+            const test::WeightSum w = weights_of_every_join_and_merge(b, path, etas[e]);
             EXPECT_GE(w.strategies, 1) << path.name;
             EXPECT_NEAR(w.sum, 1.0, 1e-5)
                 << path.name << ", eta " << etas[e] << " (" << w.terms << ")";
@@ -88,7 +117,7 @@ std::vector<float> expect_joins_and_merges_sum_to_one(const Bidir& b,
             for (const float m : w.merges) largest[e] = std::max(largest[e], m);
         }
         // eta -> 0: lesson 5's joins, merges of no weight.
-        const test::WeightSum faint = test::weights_of_every_strategy(b, path, 1e-9 * etas[0]);
+        const test::WeightSum faint = weights_of_every_join_and_merge(b, path, 1e-9 * etas[0]);
         for (size_t k = 0; k < faint.connections.size(); ++k)
             EXPECT_NEAR(faint.connections[k], lesson5.connections[k], 1e-5) << path.name;
         for (const float m : faint.merges) {
@@ -113,18 +142,19 @@ std::vector<double> etas_about_the_default(const Scene& scene) {
 TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
     // Vertex connection and merging weighs every join (s, t) of a path and every merge at one of
     // its vertices x_j (1 <= j <= n - 2, not a mirror or glass) by the power heuristic over all
-    // of them, a merge's density being strategy j's times p_L(x_j) eta, eta = N pi r^2 (mis.h;
-    // Georgiev et al. 2012): for the estimator to be unbiased (as r -> 0) the weights of one
-    // path must sum to 1. On lesson 5's given paths (test::weights_of_every_strategy: each join
-    // as connect() weighs it, each merge as merges() does, with the light subpath's vertex at
-    // x_j as the photon) in the room with every kind of light and vertex, under a uniform sky
-    // and a map with a sun (which leave no photons), and for a lamp 1e10 times fainter than the
-    // other light; and on paths that only merging can make (a point light's caustic through a
-    // mirror or a glass ball, seen through a mirror or the ball: L S D S E), or that merging
-    // shares with a camera ray that hits the lamp. At eta = 0 the joins alone sum to 1, as in
-    // lesson 5. A density wrong the same way in every technique would still sum to 1: on the
-    // lamp's L S D S E paths the merge's weight is also checked in closed form (merging's
-    // density is eta times the photon's density at the merge vertex, docs/06_photon_mapping.md).
+    // of them, a merge's density being strategy j's times p_L(x_j) eta, eta = N pi r^2
+    // (merge_weights.h; Georgiev et al. 2012): for the estimator to be unbiased (as r -> 0) the
+    // weights of one path must sum to 1. On lesson 5's given paths
+    // (weights_of_every_join_and_merge: each join as connect() weighs it, each merge as merges()
+    // does, with the light subpath's vertex at x_j as the photon) in the room with every kind of
+    // light and vertex, under a uniform sky and a map with a sun (which leave no photons), and for
+    // a lamp 1e10 times fainter than the other light; and on paths that only merging can make (a
+    // point light's caustic through a mirror or a glass ball, seen through a mirror or the ball:
+    // L S D S E), or that merging shares with a camera ray that hits the lamp. At eta = 0 the
+    // joins alone sum to 1, as in lesson 5. A density wrong the same way in every technique would
+    // still sum to 1: on the lamp's L S D S E paths the merge's weight is also checked in closed
+    // form (merging's density is eta times the photon's density at the merge vertex,
+    // docs/06_photon_mapping.md).
     const test::Room room = test::room_with_every_kind_of_vertex();
     const LightSampler lights(room.scene);
     const Bidir b{room.scene, lights, room.scene.camera, room.scene.width, room.scene.height};
@@ -148,13 +178,13 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
     expect_joins_and_merges_sum_to_one(b, caustics, etas);
     for (const double eta : etas) {
         for (int k = 0; k < 2; ++k) {  // the point light's: the merge at the floor alone
-            const test::WeightSum w = test::weights_of_every_strategy(b, caustics[k], eta);
+            const test::WeightSum w = weights_of_every_join_and_merge(b, caustics[k], eta);
             EXPECT_TRUE(w.connections.empty()) << caustics[k].name << " (" << w.terms << ")";
             ASSERT_EQ(w.merges.size(), 1u) << caustics[k].name;
             EXPECT_NEAR(w.merges[0], 1.0f, 1e-6f) << caustics[k].name;
         }
         for (int k = 2; k < 4; ++k) {  // the lamp's: a camera ray hitting it, and the merge
-            const test::WeightSum w = test::weights_of_every_strategy(b, caustics[k], eta);
+            const test::WeightSum w = weights_of_every_join_and_merge(b, caustics[k], eta);
             ASSERT_EQ(w.connections.size(), 1u) << caustics[k].name << " (" << w.terms << ")";
             ASSERT_EQ(w.merges.size(), 1u) << caustics[k].name << " (" << w.terms << ")";
             // Both make x_0 and the diffuse x_j with cosine densities (the lamp's emission, the
@@ -172,7 +202,7 @@ TEST(Vcm, WeightsOfEveryJoinAndMergeSumToOne) {
         expect_joins_and_merges_sum_to_one(sb, test::paths_under_the_sky(),
                                            etas_about_the_default(open));
         for (const test::GivenPath& path : test::paths_under_the_sky())
-            EXPECT_TRUE(test::weights_of_every_strategy(sb, path, 1.0).merges.empty());
+            EXPECT_TRUE(weights_of_every_join_and_merge(sb, path, 1.0).merges.empty());
     }
 
     const test::FaintLamp pair = test::faint_lamp_after_a_bright_light();
@@ -186,10 +216,11 @@ TEST(Vcm, AWeighedPhotonGivesItsMergeTheWeightThatSumsToOneWithTheJoins) {
     // merges() does not walk a merge's whole path: it reads the light side of the weight from
     // the photon (weigh_photons stores it as two floats, the roots of its terms), the camera
     // side from its vertex (computed once per vertex), and the two densities of scattering at
-    // the merge from the photon's arrival direction (mis.h, "the same weight in two halves").
-    // On every merge of lesson 5's given paths in the room and of the caustics seen through a
-    // mirror or a glass ball, at etas from 1e-3 to 1e3 of the default, that gives merge_weight's
-    // value: the one Vcm.WeightsOfEveryJoinAndMergeSumToOne checks against every join's.
+    // the merge from the photon's arrival direction (merge_weights.h, "the same weight in two
+    // halves"). On every merge of lesson 5's given paths in the room and of the caustics seen
+    // through a mirror or a glass ball, at etas from 1e-3 to 1e3 of the default, that gives
+    // merge_weight's value: the one Vcm.WeightsOfEveryJoinAndMergeSumToOne checks against every
+    // join's.
     const test::Room room = test::room_with_every_kind_of_vertex();
     const LightSampler lights(room.scene);
     const Bidir b{room.scene, lights, room.scene.camera, room.scene.width, room.scene.height};
@@ -239,9 +270,9 @@ bool same_bits(const Image& a, const Image& b) {
 
 TEST(Vcm, WithoutMergingIsLessonFiveBitForBit) {
     // --method bpt is vertex connection and merging without the merges: lesson 5's strategies,
-    // weighted by lesson 5's weights (merge_eta 0), its light subpaths from the same random
-    // numbers, its light tracing splatted in the same order. The image and its variance, bit for
-    // bit, against lesson 5's model on the same seed: on the box with a mirror and a glass ball
+    // weighted by lesson 5's weights (no extra technique), its light subpaths from the same
+    // random numbers, its light tracing splatted in the same order. The image and its variance, bit
+    // for bit, against lesson 5's model on the same seed: on the box with a mirror and a glass ball
     // (chains of delta vertices) and Veach's glossy plates and spherical lamps, with a path
     // length limit and Russian roulette.
     for (const char* file : {"/scenes/cornell_spheres.toml", "/scenes/veach_mis.toml"}) {

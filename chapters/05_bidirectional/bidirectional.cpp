@@ -24,7 +24,7 @@ Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
     trace_subpaths(b, ray, rng, options, camera, light);
     Color L(0.0f);
     for_each_strategy(
-        b, camera, light, rng, options, 0.0,
+        b, camera, light, rng, options, nullptr,
         [&](int s, int t, const StrategySample& c, const Color& contribution) {
             const Color layer_share = options.unweighted_layers ? c.L : contribution;
             const int layer =

@@ -11,7 +11,8 @@
 //   subpaths.h  the two random walks and the densities each vertex keeps;
 //   connect.h   the four kinds of join (s = 0, s = 1, t = 1: light tracing, splatted onto the
 //               film, and the general shadow ray);
-//   mis.h       the weights that make the strategies one estimator.
+//   mis.h       the weights that make the strategies one estimator (ratio_walk.h: the
+//               densities and the walk over their ratios they are computed by).
 // Every strategy alone is an unbiased estimator of the paths it can make; weighted by MIS they
 // add up to one that keeps each strategy's strengths.
 #pragma once
@@ -48,12 +49,12 @@ void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
 
 // Every strategy (s, t) that joins the two subpaths into a path of at most the options' length:
 // calls add(s, t, sample, contribution) for each that carries light, with its contribution
-// weighted by MIS (unless light tracing alone, which is unweighted). merge_eta > 0 adds lesson
-// 6's merges to the weights (mis.h); 0 is lesson 5.
+// weighted by MIS (unless light tracing alone, which is unweighted). `extra` (if not null) is
+// another technique counted among those of the weights (mis.h); this lesson has none.
 template <class Add>
 void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
                        std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
-                       double merge_eta, Add&& add);
+                       const ExtraTechnique* extra, Add&& add);
 
 // One sample of the pixel of camera ray `ray`: the returned radiance (strategies with t >= 2),
 // each layer's share, and the light of t = 1 strategies appended to `splats` for the pixels it
@@ -78,7 +79,7 @@ private:
 template <class Add>
 void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
                        std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
-                       double merge_eta, Add&& add) {
+                       const ExtraTechnique* extra, Add&& add) {
     const int longest = longest_path(options.max_depth);
     const int light_vertices = static_cast<int>(light.size());
     const bool weighted = !options.light_tracing;
@@ -88,7 +89,7 @@ void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
             if (segments < 1 || segments > longest) continue;
             // A light sample (s = 1, t >= 2) is drawn afresh; every other s needs its vertices.
             if (s > light_vertices && !(s == 1 && t >= 2)) continue;
-            const StrategySample c = connect(b, light, s, camera, t, rng, weighted, merge_eta);
+            const StrategySample c = connect(b, light, s, camera, t, rng, weighted, extra);
             if (is_black(c.L)) continue;
             add(s, t, c, weighted ? c.weight * c.L : c.L);
         }

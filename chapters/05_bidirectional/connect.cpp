@@ -109,7 +109,7 @@ Color join(const Bidir& b, const Vertex& y, const Vertex& z) {
 
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
                        std::span<const Vertex> camera, int t, Rng& rng, bool weighted,
-                       double merge_eta) {
+                       const ExtraTechnique* extra) {
     StrategySample out;
     Vertex sampled;  // the vertex the strategy makes itself (s = 1, t = 1), for the weight
     const Vertex *light_end = nullptr, *camera_end = nullptr;
@@ -127,7 +127,7 @@ StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
         out.L = join(b, light[s - 1], camera[t - 1]);
     }
     if (!is_black(out.L) && weighted)
-        out.weight = mis_weight(b, light, s, camera, t, light_end, camera_end, merge_eta);
+        out.weight = mis_weight(b, light, s, camera, t, light_end, camera_end, extra);
     return out;
 }
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 
+#include "05_bidirectional/mis.h"
 #include "05_bidirectional/subpaths.h"
 
 namespace lessons {
@@ -23,16 +24,16 @@ struct StrategySample {
     std::optional<uint32_t> pixel;  // t = 1: the pixel it lands on (row-major)
 };
 
-// Strategy (s, t) for the two subpaths (light has at least s vertices, camera at least t).
-// Draws random numbers only for s = 1 (the light sample).
-// merge_eta > 0: lesson 6's merges count among the techniques of the weight (mis.h).
 // The general join (s >= 2, t >= 2), unweighted: a shadow ray between light-subpath vertex y and
 // camera-subpath vertex z, beta_L(y) f(y) G V f(z) beta_C(z); 0 where either is a mirror or glass,
 // not on a surface, or the segment is blocked.
 Color join(const Bidir& b, const Vertex& y, const Vertex& z);
 
+// Strategy (s, t) for the two subpaths (light has at least s vertices, camera at least t).
+// Draws random numbers only for s = 1 (the light sample). `extra`: another technique counted
+// among those of the weight (mis.h), or none.
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
                        std::span<const Vertex> camera, int t, Rng& rng, bool weighted,
-                       double merge_eta = 0.0);
+                       const ExtraTechnique* extra = nullptr);
 
 }  // namespace lessons

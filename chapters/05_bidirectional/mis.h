@@ -24,13 +24,14 @@
 // is the same from both sides (specular surfaces: Veach 1997, section 10.3), so its densities
 // are left out of every ratio (taken as 1), and the vertices on either side of a chain of them
 // get the densities of the whole chain's unfolded length (exact for flat mirrors only: see
-// through_delta_chains in mis.cpp). The light sample (s = 1) picks x_0 by lesson 3's density
+// through_delta_chains in ratio_walk.h). The light sample (s = 1) picks x_0 by lesson 3's density
 // (by solid angle where it can), the light subpath by the light's area: each strategy's ratio
 // uses its own.
 #pragma once
 
 #include <span>
 
+#include "05_bidirectional/ratio_walk.h"
 #include "05_bidirectional/subpaths.h"
 
 namespace lessons {
@@ -55,50 +56,26 @@ namespace lessons {
 // a sphere seen from outside), so then it covers the whole pixel.
 bool pixel_inside_lamp(const Bidir& b, const Vertex& on_light);
 
+// A hook for another technique that a later lesson adds beside these strategies, one at each
+// vertex x_j of the path: its density there is strategy j's (x_0 .. x_{j-1} from a light subpath
+// that starts at x_0, x_j .. x_{n-1} from the camera subpath) times a factor of its own, so it is
+// weighed by the strategies' own walk (ratio_walk.h). ratio_at(j, n, started, d_j) is its density
+// at x_j, on a path of n vertices, over the density of the strategy s that made the path, given
+// `started`, strategy j's ratio to s with x_0 made as a light subpath's start
+// (FirstVertex::started), and x_j's densities d_j; 0 where it cannot make the path.
+class ExtraTechnique {
+public:
+    virtual ~ExtraTechnique() = default;
+    virtual double ratio_at(int j, int n, double started, const VertexDensities& d_j) const = 0;
+};
+
 // The power-heuristic weight of strategy (s, t) for the path light[0 .. s-1] + camera[t-1 .. 0].
 // The vertices the strategy made itself, if any: `light_sample` instead of light[0] when s = 1
 // (a light sample at z_{t-1}), `camera_end` instead of camera[0] when t = 1 (the camera, joined
-// to a light vertex). With merge_eta = N pi r^2 > 0 (lesson 6: vertex connection and merging,
-// N light subpaths' photons gathered within radius r), the merges at every vertex that can make
-// the path count among the techniques; 0 (lesson 5): the connections alone.
+// to a light vertex). With `extra`, its technique at every vertex that can make the path (x_s
+// included) counts too; without (this lesson), the strategies alone.
 float mis_weight(const Bidir& b, std::span<const Vertex> light, int s,
                  std::span<const Vertex> camera, int t, const Vertex* light_sample,
-                 const Vertex* camera_end, double merge_eta = 0.0);
-
-// Lesson 6: the power-heuristic weight of merging at x_s = camera[t - 1]: the light subpath
-// light[0 .. s-1] went on to `photon`, a vertex within r of camera[t - 1], and the two are taken
-// as one, x_s (s >= 1, t >= 2). Against every connection strategy and every other merge of the
-// path, with merge_eta = N pi r^2 as above. The light side's densities are the photon's (where it
-// landed, where its light came from), the camera side's camera[t - 1]'s, and the BSDF at x_s is
-// camera[t - 1]'s: exactly the weights above when the photon lies on camera[t - 1], and within
-// the merge's own blur otherwise (Georgiev et al. 2012 make the same choice).
-float merge_weight(const Bidir& b, std::span<const Vertex> light, int s, const Vertex& photon,
-                   std::span<const Vertex> camera, int t, double merge_eta);
-
-// The same weight in the two halves a merge brings together, so that each is computed once: the
-// light side once per photon, the camera side once per camera vertex, and per pair only the two
-// densities of scattering at x_s (per steradian, by camera[t - 1]'s BSDF):
-//   reverse  arriving from x_{s+1} (the camera's side), towards x_{s-1} (the photon's light);
-//   forward  arriving from x_{s-1}, towards x_{s+1}.
-// The power heuristic against the merge itself: w = 1 / (1 + the other techniques' terms), those
-// terms being light.own_join + reverse^2 light.per_reverse2 + camera.fixed + forward^2
-// camera.per_forward2 (mis.cpp).
-struct MergeLightSide {
-    bool possible = false;      // whether a merge can make the path at all
-    double per_reverse2 = 0.0;  // the joins and merges between x_s and the light
-    double own_join = 0.0;      // strategy s, the join of x_{s-1} to x_s
-};
-struct MergeCameraSide {
-    Vec3 towards_camera{0.0f};  // unit, from camera[t - 1] to camera[t - 2]
-    double fixed = 0.0;         // strategy s + 1, the join of x_s to x_{s+1}
-    double per_forward2 = 0.0;  // every other join and merge between x_s and the camera
-    bool possible() const { return towards_camera != Vec3(0.0f); }
-};
-// light: y_0 .. y_{s-1}; photon: y_s.
-MergeLightSide merge_light_side(const Bidir& b, std::span<const Vertex> light, const Vertex& photon,
-                                double merge_eta);
-MergeCameraSide merge_camera_side(std::span<const Vertex> camera, int t, double merge_eta);
-float merge_weight(const MergeLightSide& light, const MergeCameraSide& camera, double reverse,
-                   double forward);
+                 const Vertex* camera_end, const ExtraTechnique* extra = nullptr);
 
 }  // namespace lessons

@@ -4,15 +4,15 @@
 // path x_0 .. x_s .. x_{n-1} (y_0 .. y_{s-1}, then z_{t-1} .. z_0; n = s + t) carries
 //   beta_L(y_s) f(z_{t-1}) beta_C(z_{t-1}) K(|y_s - z_{t-1}|) / N
 // (the radiance estimate of density.h at z_{t-1}, for this photon), weighted by MIS against
-// every join and every other merge that could make the same path (merge_weight, mis.h, with
-// eta = N pi r^2: a merge is N times likelier than a join where the light subpath's density of
-// landing in the disk, p_L(x_s) pi r^2, is high).
+// every join and every other merge that could make the same path (merge_weight,
+// merge_weights.h, with eta = N pi r^2: a merge is N times likelier than a join where the light
+// subpath's density of landing in the disk, p_L(x_s) pi r^2, is high).
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 
-#include "05_bidirectional/mis.h"
 #include "06_photon_mapping/density.h"
+#include "06_photon_mapping/merge_weights.h"
 #include "06_photon_mapping/photon_mapping.h"
 #include "accel/parallel.h"
 

@@ -47,7 +47,7 @@ struct Photon {
     uint32_t vertex = 0;  // which vertex i of that subpath (the light's path has i segments)
     // Vertex connection and merging: the light side of the merge's weight, computed once per
     // photon (weigh_photons, photon_mapping.h): the square roots of MergeLightSide's
-    // per_reverse2 and own_join (lesson 5's mis.h), so that a float holds their range.
+    // per_reverse2 and own_join (merge_weights.h), so that a float holds their range.
     float merge_reverse_root = 0.0f, merge_own_root = 0.0f;
 };
 

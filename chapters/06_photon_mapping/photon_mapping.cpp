@@ -265,8 +265,10 @@ Color PhotonMappingModel::connect_and_merge(const Ray& ray, Rng& rng, uint32_t p
     const double eta = merging ? static_cast<double>(std::max(pass_.paths.count, 1)) * kPi *
                                      pass_.radius * pass_.radius
                                : 0.0;
+    // The joins, weighed with the merges among their techniques (bpt: as lesson 5 weighs them).
+    const MergeTechnique merge_technique(eta);
     Color L(0.0f);
-    for_each_strategy(b_, camera, light, rng, options_.paths, eta,
+    for_each_strategy(b_, camera, light, rng, options_.paths, merging ? &merge_technique : nullptr,
                       [&](int, int t, const StrategySample& c, const Color& contribution) {
                           if (t == 1) {  // light tracing, onto the pixel it lands on
                               splats.push_back({*c.pixel, 0, contribution});

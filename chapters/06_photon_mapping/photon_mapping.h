@@ -19,8 +19,9 @@
 //        the passes has a bias and a variance that both vanish (consistent);
 //   vcm  vertex connection and merging (Georgiev et al. 2012; Hachisuka et al. 2012): every
 //        strategy of lesson 5 and a merge at every diffuse vertex of the camera path, each
-//        weighted by MIS over all of them (mis.h: a merge is strategy j's density times
-//        p_L(x_j) N pi r^2), with the progressive radius;
+//        weighted by MIS over all of them (merge_weights.h: a merge is strategy j's density
+//        times p_L(x_j) N pi r^2, counted in lesson 5's weights through its hook for an extra
+//        technique), with the progressive radius;
 //   bpt  vcm without merging: lesson 5 itself, bit for bit;
 //   vpl  instant radiosity (Keller 1997): the light subpaths' vertices as virtual point lights,
 //        *connected* to the first diffuse camera vertex rather than merged with it (vpl.h).
@@ -37,8 +38,8 @@
 #include <utility>
 
 #include "05_bidirectional/bidirectional.h"
-#include "05_bidirectional/mis.h"
 #include "06_photon_mapping/kernel.h"
+#include "06_photon_mapping/merge_weights.h"
 #include "06_photon_mapping/photon_map.h"
 #include "06_photon_mapping/photons.h"
 #include "06_photon_mapping/vpl.h"
@@ -116,8 +117,8 @@ Color photon_mapping(const Bidir& b, const PhotonPass& pass, const Ray& ray, Rng
                      const PhotonOptions& options, std::span<Color> layers);
 
 // Vertex connection and merging's step after tracing a pass: each photon's light side of the
-// merge's weight (merge_light_side, mis.h, at eta = N pi r^2), computed once, from its light
-// subpath's vertices; the photons no merge can use (their weight is 0) are left out.
+// merge's weight (merge_light_side, merge_weights.h, at eta = N pi r^2), computed once, from its
+// light subpath's vertices; the photons no merge can use (their weight is 0) are left out.
 void weigh_photons(const Bidir& b, LightPaths& paths, double eta, int threads);
 // The light side as a weighed photon holds it (two floats: the roots of its terms), and back.
 void store_light_side(Photon& photon, const MergeLightSide& side);
@@ -130,7 +131,7 @@ float merge_weight(const Photon& p, const MergeCameraSide& camera, const Bsdf& b
 // The merges of a camera subpath with the pass's (weighed) photons (vcm): the sum over every
 // vertex z_{t-1} (t >= 2) that scatters by a non-delta BSDF and every photon within r of it of
 //   w_merge (1 / N) K f(z) beta_L beta_C,
-// w_merge from mis.h with eta = N pi r^2, its camera side computed once per vertex.
+// w_merge from merge_weights.h with eta = N pi r^2, its camera side computed once per vertex.
 Color merges(const PhotonPass& pass, std::span<const Vertex> camera, const PhotonOptions& options);
 
 // Lesson 6 as a model the render loop runs. `scene` must outlive it.
