@@ -9,8 +9,10 @@
 # per-pixel variance is that of its mean). Its error is another matter: a pass's light subpaths,
 # photons or virtual lights light many pixels at once, so the pixels' errors are correlated, and
 # fireflies make them heavy-tailed; a standard error that takes the pixels as independent
-# understates it (on Whitted's scene, lesson 5 at 341 x 256 and 40 spp: 0.00014 to 0.00024,
-# against a spread of 0.00026 over six seeds). Renders with different seeds are independent
+# understates it (on Whitted's scene, lesson 5 at 341 x 256 and 40 spp, seeds 1 to 6, against the
+# shipped reference: 0.00014 to 0.00024, against a spread of 0.00026 over the six; each
+# `build/bin/05_bidirectional --scene scenes/whitted_1979.toml --width 341 --height 256 --spp 40
+# --seed S --sampler independent --variance V`, then `build/bin/compare` with both variances). Renders with different seeds are independent
 # whatever the estimator, so the mean of K renders' bias2 has the standard error sd / sqrt(K), and
 # a mean within t (Student's, K - 1 degrees of freedom, two-sided 0.05) standard errors of 0 is an
 # unbiased estimator's.
@@ -38,7 +40,10 @@ batch_converged_error() {
             --variance "${prefix}_batch_variance.exr" \
             --reference-variance "$reference_dir/reference_variance.exr" \
             > "${prefix}_batch.compare.json" 2> /dev/null || { echo "?"; return; }
-        values+="$(json_number "${prefix}_batch.compare.json" bias2) "
+        local value
+        value="$(json_number "${prefix}_batch.compare.json" bias2)"
+        [[ "$value" =~ ^-?[0-9.]+([eE][-+]?[0-9]+)?$ ]] || { echo "?"; return; }
+        values+="$value "
     done
     rm -f "${prefix}_batch.exr" "${prefix}_batch.png" "${prefix}_batch_variance.exr" \
         "${prefix}_batch.compare.json"
@@ -53,7 +58,7 @@ batch_mean_and_error() {
         ss = 0; for (i = 1; i <= k; ++i) ss += ($i - m) * ($i - m)
         se = k > 1 ? sqrt(ss / (k - 1) / k) : 0
         split("12.706 4.303 3.182 2.776 2.571 2.447 2.365 2.306 2.262 2.228", t, " ")
-        q = k - 1 <= 10 ? t[k - 1] : 1.96
+        q = k - 1 <= 10 ? t[k - 1] : 2.0  # (about right to 60 degrees of freedom; K is 8)
         if (k < 2) { print "?"; exit }
         if (m < 0 ? -m <= q * se : m <= q * se) printf "0 within noise (%.3g ± %.2g)\n", m, se
         else printf "%.3g ± %.2g\n", m, se

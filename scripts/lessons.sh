@@ -8,9 +8,9 @@
 #      checks them against today's code); other settings render their own, cached in out/ while
 #      the scene, the renderer and the settings are unchanged;
 #   2. run the five lessons at equal time budgets, recording error against time;
-#   3. run lesson 3's five estimators, lesson 4 without next-event estimation and lesson 5's
-#      light tracing alone (all of independent samples), and lesson 4 with its default,
-#      stratified sampler;
+#   3. run lesson 3's five estimators, lesson 4 without next-event estimation, lesson 5's
+#      light tracing alone and lesson 6's pm, ppm and vpl (all of independent samples), and
+#      lesson 4 with its default, stratified sampler; name the run of the lowest error;
 #   4. plot MSE against seconds, log-log, every run on one chart (gnuplot: SVG and PNG);
 #   5. estimate each run's converged error, its squared bias (MSE minus the variances of the run
 #      and of the reference), by batch means over 8 renders with seeds of their own, each of an
@@ -166,7 +166,9 @@ for entry in "${SCENES[@]}"; do
         bias_rows+="<tr><td>$label</td><td>$bias2</td><td>$(field "$dir/$name.json" mse)</td><td class=\"why\">${why:-unbiased here}</td></tr>"
         bias_cell["$name|$scene"]="$bias2"
         mse="$(field "$dir/$name.json" mse)"
-        if [ -z "$best_mse" ] || awk -v a="$mse" -v b="$best_mse" 'BEGIN { exit !(a < b) }'; then
+        # A number, or not a candidate (a failed comparison leaves none, or nan).
+        if [[ "$mse" =~ ^[0-9.]+([eE][-+]?[0-9]+)?$ ]] &&
+            { [ -z "$best_mse" ] || awk -v a="$mse" -v b="$best_mse" 'BEGIN { exit !(a + 0 < b + 0) }'; }; then
             best_mse="$mse"
             best_label="$label"
         fi
@@ -230,7 +232,7 @@ unbiased, whose error falls faster, because its samples cannot clump.</p>
 <h3>Converged error: what more time cannot fix</h3>
 <p>The squared bias, the MSE each run would converge to: MSE minus the variances of the run and of
 the reference (both measured per pixel, of independent samples), averaged over
-$CONVERGED_ERROR_BATCHES renders with seeds of their own, each of an eighth of the run's samples,
+$CONVERGED_ERROR_BATCHES renders with seeds of their own, each of an eighth of the run's samples (at least 2),
 with the standard error of that mean (batch means: a pass's light paths light many pixels at once,
 so the pixels of one render are not independent). \"0 within noise\" where it lies within
 Student's t (0.05, two-sided) standard errors of 0, as an unbiased estimator's does, of either sign;

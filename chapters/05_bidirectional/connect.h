@@ -13,10 +13,11 @@
 #include <optional>
 #include <span>
 
-#include "05_bidirectional/mis.h"
 #include "05_bidirectional/subpaths.h"
 
 namespace lessons {
+
+class ExtraTechnique;  // mis.h
 
 struct StrategySample {
     Color L{0.0f};                  // the unweighted contribution (0: none)

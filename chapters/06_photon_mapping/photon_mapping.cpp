@@ -84,14 +84,14 @@ void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
     if (virtual_lights && contents.delta_materials)
         biased_because.push_back(
             "light that reaches the first diffuse point the camera sees off a mirror or through "
-            "glass (a caustic, S+ D S* E) is missing: virtual lights lie on non-delta surfaces "
-            "only, and a light sample cannot pass through glass");
+            "glass (a caustic, S+ D S* E) is missing: a virtual light's join and a light sample "
+            "are straight segments, which cannot bounce off a mirror or pass through glass");
     if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
         biased_because.push_back(
-            "a point or directional light seen in a mirror or through glass is missing: a delta "
-            "light, a delta "
-            "BSDF and the pinhole make a path no estimator can (its caustics, seen any way, are "
-            "the photons')");
+            std::string("a point or directional light seen in a mirror or through glass is "
+                        "missing: a delta light, a delta BSDF and the pinhole make a path no "
+                        "estimator can") +
+            (virtual_lights ? "" : " (its caustics, seen any way, are the photons')"));
     if (contents.point_light_in_view && !joined)
         biased_because.push_back(
             std::string("a point light in view is missing: no camera ray hits a point, and ") +

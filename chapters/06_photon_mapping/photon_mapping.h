@@ -25,7 +25,7 @@
 //   bpt  vcm without merging: lesson 5 itself, bit for bit;
 //   vpl  instant radiosity (Keller 1997): the light subpaths' vertices as virtual point lights,
 //        *connected* to the first diffuse camera vertex rather than merged with it (vpl.h).
-// Pass k's photons come from N = width x height light subpaths drawn from (seed, k, subpath)
+// Pass k's photons come from N = width x height light subpaths (vpl: --vpls) drawn from (seed, k, subpath)
 // (photons.h), traced before the pass (begin_pass), so the image is the same for any number of
 // threads and any split of the passes across parts of a render (docs/farm.md). vcm joins each
 // pixel's camera subpath to the pass's light subpath of the pixel's index, as Georgiev et al.

@@ -73,7 +73,7 @@ Color virtual_light_at(const Bidir& b, std::span<const VirtualLight> lights, int
     for (const VirtualLight& light : lights) {
         if (light.index > most) continue;
         const Color L = join(b, *light.y, x);
-        if (!is_black(L)) sum += L * capped_share(*light.y, x, clamp);
+        if (!is_black(L) && is_finite(L)) sum += L * capped_share(*light.y, x, clamp);
     }
     return count > 0 ? sum / static_cast<float>(count) : Color(0.0f);
 }
@@ -96,7 +96,7 @@ Color instant_radiosity(const Bidir& b, std::span<const VirtualLight> lights, in
         // The light the cap removed, through the next vertex: two segments more at least.
         if (!settings.compensate || !(settings.clamp > 0.0f) || segments + 2 > longest) break;
         x = compensation_step(b, *x, settings.clamp, rng);
-        if (x && settings.paths.roulette_after >= 0 && segments >= settings.paths.roulette_after) {
+        if (x && settings.paths.roulette_after >= 0 && segments > settings.paths.roulette_after) {
             const float q = russian_roulette_survival(x->beta);
             if (rng.uniform() >= q) break;
             x->beta /= q;

@@ -24,13 +24,16 @@
 // y the first surface in direction w and L_r(y) the light y reflects towards x. --vpl-compensate
 // estimates it with one BSDF sample at x, traced at most 1 / sqrt(C) (no farther y can have G > C),
 // where L_r(y) is estimated in turn as at x: the light sample, the capped virtual lights, and again
-// the compensation. The sum is the uncapped integral: the render is unbiased again, and the light
-// the cap took from the near field comes back as ordinary path-tracing noise.
+// the compensation. The sum is the uncapped integral: the render is unbiased again (but for what
+// virtual lights miss, below), and the light the cap took from the near field comes back as
+// ordinary path-tracing noise. (In a scene with a sky, the light sample at y also finds the sky,
+// whose light after a bounce no virtual light carries: the compensation then adds some of it.)
 //
-// What virtual lights cannot do: light that reaches x off a mirror or through glass from a lamp
-// (a caustic seen directly: L S+ D E) has no virtual light on its way (they lie on non-delta
-// surfaces only) and no light sample (it cannot pass through glass), so it is missing; and the
-// sky starts no light subpaths (photons.h), so its light after a bounce is missing too.
+// What virtual lights cannot do: light that reaches x off a mirror or through glass (a caustic
+// seen directly, L S+ D E, or a lit wall's light off a mirror, L D S+ D E) is missing: a join is a
+// straight segment from a virtual light to x, and a light sample a straight segment from a lamp,
+// and neither can bounce off a mirror or pass through glass on the way. The sky starts no light
+// subpaths (photons.h), so its light after a bounce is missing too.
 #pragma once
 
 #include <span>
