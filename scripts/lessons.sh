@@ -148,18 +148,22 @@ for entry in "${SCENES[@]}"; do
             --variance "$dir/${name}_variance.exr" \
             --reference-variance "$reference_variance" > "$dir/$name.compare.json" 2> /dev/null
         # 5. Its converged error by batch means: CONVERGED_ERROR_BATCHES renders of independent
-        #    samples with seeds of their own, each of an eighth of this run's samples (at least
-        #    2, for a variance). A stratified run's own variance is not its error: n/a.
+        #    samples with seeds of their own, each of an eighth of this run's samples, and at
+        #    least CONVERGED_ERROR_MIN_SPP (converged_error.sh says why). A stratified run's own
+        #    variance is not its error: n/a.
         case "$flags" in
             *"--sampler independent"*)
                 batch_spp=$(( $(field "$dir/$name.json" spp) / CONVERGED_ERROR_BATCHES ))
-                [ "$batch_spp" -ge 2 ] || batch_spp=2
+                [ "$batch_spp" -ge "$CONVERGED_ERROR_MIN_SPP" ] || batch_spp=$CONVERGED_ERROR_MIN_SPP
                 bias2="$(batch_converged_error "$lesson" "scenes/$scene.toml" "$batch_spp" \
                     "$reference_dir" "$dir/$name" $size ${flags/--sampler independent/})" ;;
             *) bias2="n/a (stratified)" ;;
         esac
         echo "lessons: $scene: $label: $(field "$dir/$name.json" spp) spp in $(field "$dir/$name.json" seconds) s, mse $(field "$dir/$name.json" mse), converged mse (bias^2) $bias2"
         why="$(list_field "$dir/$name.json" bias)"
+        # Biased but consistent (a shrinking radius): the bias goes with more time.
+        [ "$(field "$dir/$name.json" consistent)" = true ] && [ "$(field "$dir/$name.json" biased)" = true ] &&
+            why="consistent (the bias shrinks as it renders): $why"
         # Lesson 6: the photons' radius, from the first pass to the last (the bias falls with it).
         radius="$(json_number "$dir/$name.json" radius_reached)"
         [ -n "$radius" ] && why="${why:+$why; }photon radius $(json_number "$dir/$name.json" radius_first) to $radius"
@@ -232,7 +236,7 @@ unbiased, whose error falls faster, because its samples cannot clump.</p>
 <h3>Converged error: what more time cannot fix</h3>
 <p>The squared bias, the MSE each run would converge to: MSE minus the variances of the run and of
 the reference (both measured per pixel, of independent samples), averaged over
-$CONVERGED_ERROR_BATCHES renders with seeds of their own, each of an eighth of the run's samples (at least 2),
+$CONVERGED_ERROR_BATCHES renders with seeds of their own, each of an eighth of the run's samples (at least $CONVERGED_ERROR_MIN_SPP),
 with the standard error of that mean (batch means: a pass's light paths light many pixels at once,
 so the pixels of one render are not independent). \"0 within noise\" where it lies within
 Student's t (0.05, two-sided) standard errors of 0, as an unbiased estimator's does, of either sign;
