@@ -19,9 +19,9 @@
 #      flip/slider comparison, the error images, the chart, the converged-bias table and a table
 #      of the figures.
 # Usage: scripts/lessons.sh [--quick | --thorough | --references]
-#   default: ~256 px images, 4 s per run, the shipped references: about 4 minutes on 2 cores
-#   (236 s, first run included, measured with the cores shared: load average 10);
-#   --quick: tiny images, 0.3 s per run, under a minute; --thorough: 512 px, 30 s per run, and
+#   default: ~256 px images, 4 s per run, the shipped references: about 10 minutes on 2 idle
+#   cores (9 min 38 s measured, the batch means of the converged-error table included);
+#   --quick: tiny images, 0.3 s per run, about a minute (66 s, its references included); --thorough: 512 px, 30 s per run, and
 #   its own references (8192 spp, rendered once and cached in out/ with their provenance);
 #   --references: the default page, re-rendering the shipped references in references/ first
 #   (with new provenance files; about 6 minutes more on 2 idle cores).
