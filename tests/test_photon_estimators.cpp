@@ -112,7 +112,7 @@ double log_log_slope(const std::vector<double>& x, const std::vector<double>& y)
 }
 
 // The two-sided 0.01 quantile of Student's t with 7 degrees of freedom (8 seeds' slopes).
-constexpr double kStudentT7 = 3.4995;
+const double kStudentT7 = test::student_t_quantile(0.01, 7);
 
 }  // namespace
 

@@ -171,35 +171,6 @@ namespace {
 
 // ---- Image means against lesson 5 ----
 
-// The two-sided p-value of Student's t with `dof` degrees of freedom, P(|T| >= t), in closed
-// form for whole degrees (Abramowitz and Stegun 26.7.3 and 26.7.4). With theta =
-// atan(t / sqrt(dof)) and c = cos theta, P(|T| < t) is
-//   odd dof:  (2 / pi) (theta + sin theta (c + 2/3 c^3 + 2 4 / (3 5) c^5 + ...)),
-//   even dof: sin theta (1 + 1/2 c^2 + 1 3 / (2 4) c^4 + ...),
-// each sum up to the term in c^(dof - 2) (for dof = 1, empty).
-double student_t_p_value(double t, int dof) {
-    const double theta = std::atan(std::fabs(t) / std::sqrt(static_cast<double>(dof)));
-    const double c2 = std::cos(theta) * std::cos(theta);
-    double term = dof % 2 ? std::cos(theta) : 1.0, sum = dof % 2 && dof < 3 ? 0.0 : term;
-    for (int k = dof % 2 ? 3 : 2; k <= dof - 2; k += 2) {
-        term *= c2 * (k - 1) / k;
-        sum += term;
-    }
-    const double inside =
-        dof % 2 ? 2.0 / kPi * (theta + std::sin(theta) * sum) : std::sin(theta) * sum;
-    return 1.0 - inside;
-}
-
-// Its two-sided quantile for significance alpha, by bisection (7 degrees: 3.4995 at 0.01).
-double student_t_quantile(double alpha, int dof) {
-    double lo = 0.0, hi = 1e4;
-    for (int i = 0; i < 200; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        (student_t_p_value(mid, dof) > alpha ? lo : hi) = mid;
-    }
-    return 0.5 * (lo + hi);
-}
-
 Material diffuse(const Color& albedo) {
     Material m;
     m.name = "diffuse";
@@ -407,7 +378,7 @@ void expect_means_match_lesson_five(const Scene& scene, float r, const std::vect
                         "lesson 5");
     }
     const double t_max =
-        student_t_quantile(test::sidak(0.01, static_cast<int>(methods.size() * regions.size())),
+        test::student_t_quantile(test::sidak(0.01, static_cast<int>(methods.size() * regions.size())),
                            kRenders * kBlocks - 1);
     for (size_t k = 0; k < regions.size(); ++k) {
         const test::MeanAndError five = test::mean_and_error(batches[methods.size()][k]);

@@ -48,18 +48,8 @@ double image_average(const Image& image) {
     return sum / static_cast<double>(image.pixels.size());
 }
 
-// Mean and standard error of batch means (independent renders with different seeds).
-std::pair<double, double> batch_mean(const std::vector<double>& means) {
-    double m = 0.0;
-    for (double v : means) m += v / static_cast<double>(means.size());
-    double ss = 0.0;
-    for (double v : means) ss += (v - m) * (v - m);
-    const double n = static_cast<double>(means.size());
-    return {m, std::sqrt(ss / (n - 1.0) / n)};
-}
-
 // The two-sided 0.01 quantile of Student's t with 7 degrees of freedom (8 batch means).
-constexpr double kStudentT7 = 3.4995;
+const double kStudentT7 = test::student_t_quantile(0.01, 7);
 
 }  // namespace
 
@@ -224,8 +214,8 @@ TEST(Vpl, GlossyAndMetalLitOnlyByVirtualLightsMatchLessonFive) {
         const BidirectionalModel lesson5(scene, BidirOptions{});
         bpt.push_back(image_average(render_scene(scene, lesson5, 64, independent(100 + seed)).image));
     }
-    const auto [m_vpl, se_vpl] = batch_mean(vpl);
-    const auto [m_bpt, se_bpt] = batch_mean(bpt);
+    const auto [m_vpl, se_vpl] = test::mean_and_error(vpl);
+    const auto [m_bpt, se_bpt] = test::mean_and_error(bpt);
     const double se = std::sqrt(se_vpl * se_vpl + se_bpt * se_bpt);
     std::printf("vpl %.5f (se %.5f), lesson 5 %.5f (se %.5f)\n", m_vpl, se_vpl, m_bpt, se_bpt);
     ASSERT_GT(m_bpt, 0.0);
@@ -238,7 +228,7 @@ TEST(Vpl, GlossyAndMetalLitOnlyByVirtualLightsMatchLessonFive) {
         const PhotonMappingModel ir(scene, vpl_options(-1.0f, false, 32));
         capped.push_back(image_average(render_scene(scene, ir, 64, independent(seed)).image));
     }
-    const auto [m_cap, se_cap] = batch_mean(capped);
+    const auto [m_cap, se_cap] = test::mean_and_error(capped);
     std::printf("vpl with the default cap %.5f (se %.5f)\n", m_cap, se_cap);
     EXPECT_GT(m_bpt - m_cap, kStudentT7 * std::sqrt(se_cap * se_cap + se_bpt * se_bpt));
     EXPECT_LT(m_cap, m_vpl);  // the same seeds: the cap only takes light away

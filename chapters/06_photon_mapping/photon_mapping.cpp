@@ -63,6 +63,13 @@ std::string number(double v) {
     return buf;
 }
 
+// The technique images of each method, adding up to the image (--techniques).
+std::vector<std::string> technique_names(PhotonMethod m) {
+    if (joins(m)) return {"connection", "merging", "light_tracing"};
+    if (m == PhotonMethod::VirtualLights) return {"direct", "vpl", "compensation"};
+    return {"direct", "photons"};
+}
+
 }  // namespace
 
 // What the photon methods cannot find in this scene, as notes or as bias.
@@ -99,6 +106,27 @@ void PhotonMappingModel::add_what_it_misses(const Scene& scene) {
             " does not join the light to the camera (vcm and bpt do)");
 }
 
+// bpt's notes (and vcm's where it does not merge): lesson 5's, which says what it ignores and
+// misses here in the same words, for the same image, and the method as asked.
+void PhotonMappingModel::add_bpt_notes(const Scene& scene, const PhotonOptions& options) {
+    const BidirectionalModel lesson5(scene, options.paths);
+    notes = lesson5.notes;
+    biased_because = lesson5.biased_because;
+    if (asked_ == PhotonMethod::VertexMerging)
+        notes.insert(notes.begin(),
+                     options.merging == Merging::Never
+                         ? "method vcm with --merging never: no merges, so lesson 5's "
+                           "bidirectional path tracing, the same image bit for bit"
+                         : "method vcm, merging left out: the scene has no mirror or smooth "
+                           "glass, so every path has a join and none needs a merge; vcm is "
+                           "lesson 5's bidirectional path tracing here, the same image bit "
+                           "for bit (--merging always merges anyway, at its cost)");
+    else
+        notes.insert(notes.begin(),
+                     "method bpt: lesson 5's bidirectional path tracing (vertex connection "
+                     "without merging): the same image, bit for bit");
+}
+
 PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& options)
     : lights_(scene),
       b_{scene, lights_, scene.camera, scene.width, scene.height},
@@ -109,34 +137,14 @@ PhotonMappingModel::PhotonMappingModel(const Scene& scene, const PhotonOptions& 
     splats = joins(m);  // bpt and vcm trace light onto the pixels it lands on
     alpha_ = options.alpha > 0.0f ? options.alpha : default_alpha(m);
     r1_ = options.radius > 0.0f ? options.radius : default_photon_radius(scene);
-    if (options.technique_layers)
-        layer_names = joins(m) ? std::vector<std::string>{"connection", "merging", "light_tracing"}
-                      : m == PhotonMethod::VirtualLights
-                          ? std::vector<std::string>{"direct", "vpl", "compensation"}
-                          : std::vector<std::string>{"direct", "photons"};
+    if (options.technique_layers) layer_names = technique_names(m);
     if (m == PhotonMethod::VirtualLights) {
         clamp_ = options.vpl_clamp >= 0.0f ? options.vpl_clamp : default_vpl_clamp(scene);
         add_vpl_notes(scene);
         return;
     }
     if (m == PhotonMethod::Bidirectional) {
-        // Lesson 5's model says what it ignores and misses here: the same words, the same image.
-        const BidirectionalModel lesson5(scene, options.paths);
-        notes = lesson5.notes;
-        biased_because = lesson5.biased_because;
-        if (asked_ == PhotonMethod::VertexMerging)
-            notes.insert(notes.begin(),
-                         options.merging == Merging::Never
-                             ? "method vcm with --merging never: no merges, so lesson 5's "
-                               "bidirectional path tracing, the same image bit for bit"
-                             : "method vcm, merging left out: the scene has no mirror or smooth "
-                               "glass, so every path has a join and none needs a merge; vcm is "
-                               "lesson 5's bidirectional path tracing here, the same image bit "
-                               "for bit (--merging always merges anyway, at its cost)");
-        else
-            notes.insert(notes.begin(),
-                         "method bpt: lesson 5's bidirectional path tracing (vertex connection "
-                         "without merging): the same image, bit for bit");
+        add_bpt_notes(scene, options);
         return;
     }
     const bool fixed = alpha_ >= 1.0f;

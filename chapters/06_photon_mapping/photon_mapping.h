@@ -153,6 +153,7 @@ public:
 private:
     void add_what_it_misses(const Scene& scene);
     void add_vpl_notes(const Scene& scene);
+    void add_bpt_notes(const Scene& scene, const PhotonOptions& options);
     Color connect_and_merge(const Ray& ray, Rng& rng, uint32_t pixel, std::span<Color> layers,
                             std::vector<Splat>& splats) const;
 
