@@ -9,7 +9,7 @@ int strategy_layer(int s, int t, int max_layer_segments) {
     return k <= N ? (k - 1) * (k + 2) / 2 + s : N * (N + 3) / 2;
 }
 
-void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+void trace_subpaths(const Bidir& b, const Ray& ray, RandomNumbers& rng, const BidirOptions& options,
                     std::vector<Vertex>& camera, std::vector<Vertex>& light) {
     const int longest = longest_path(options.max_depth);
     // Light tracing needs no camera path: the camera is joined to every light vertex.
@@ -18,7 +18,7 @@ void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
     light_subpath(b, rng, longest, options.roulette_after, light);
 }
 
-Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+Color bidirectional(const Bidir& b, const Ray& ray, RandomNumbers& rng, const BidirOptions& options,
                     std::span<Color> layers, std::vector<Splat>& splats) {
     thread_local std::vector<Vertex> camera, light;
     trace_subpaths(b, ray, rng, options, camera, light);

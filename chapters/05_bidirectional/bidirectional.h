@@ -44,7 +44,7 @@ int strategy_layer(int s, int t, int max_layer_segments);
 
 // The two subpaths of one pixel sample: the camera subpath of `ray` and a light subpath, as long
 // as the options allow (light tracing alone needs no camera path beyond the camera).
-void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+void trace_subpaths(const Bidir& b, const Ray& ray, RandomNumbers& rng, const BidirOptions& options,
                     std::vector<Vertex>& camera, std::vector<Vertex>& light);
 
 // Every strategy (s, t) that joins the two subpaths into a path of at most the options' length:
@@ -53,13 +53,13 @@ void trace_subpaths(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions
 // another technique counted among those of the weights (mis.h); this lesson has none.
 template <class Add>
 void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
-                       std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
-                       const ExtraTechnique* extra, Add&& add);
+                       std::span<const Vertex> light, RandomNumbers& rng,
+                       const BidirOptions& options, const ExtraTechnique* extra, Add&& add);
 
 // One sample of the pixel of camera ray `ray`: the returned radiance (strategies with t >= 2),
 // each layer's share, and the light of t = 1 strategies appended to `splats` for the pixels it
 // lands on.
-Color bidirectional(const Bidir& b, const Ray& ray, Rng& rng, const BidirOptions& options,
+Color bidirectional(const Bidir& b, const Ray& ray, RandomNumbers& rng, const BidirOptions& options,
                     std::span<Color> layers, std::vector<Splat>& splats);
 
 // Lesson 5 as a model the render loop runs: bidirectional for every pixel sample (splatting
@@ -78,8 +78,8 @@ private:
 
 template <class Add>
 void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
-                       std::span<const Vertex> light, Rng& rng, const BidirOptions& options,
-                       const ExtraTechnique* extra, Add&& add) {
+                       std::span<const Vertex> light, RandomNumbers& rng,
+                       const BidirOptions& options, const ExtraTechnique* extra, Add&& add) {
     const int longest = longest_path(options.max_depth);
     const int light_vertices = static_cast<int>(light.size());
     const bool weighted = !options.light_tracing;

@@ -17,7 +17,7 @@ Color camera_path_found_light(const Bidir& b, const Vertex& z) {
 }
 
 // s = 1: a light sample at z (as next-event estimation takes it), and the light vertex it made.
-Color light_sample(const Bidir& b, const Vertex& z, Rng& rng, Vertex& light) {
+Color light_sample(const Bidir& b, const Vertex& z, RandomNumbers& rng, Vertex& light) {
     if (!z.connectible() || z.type != VertexType::Surface) return Color(0.0f);
     const float u_choose = rng.uniform();
     const Vec2 u = rng.uniform2();
@@ -108,7 +108,7 @@ Color join(const Bidir& b, const Vertex& y, const Vertex& z) {
 }
 
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
-                       std::span<const Vertex> camera, int t, Rng& rng, bool weighted,
+                       std::span<const Vertex> camera, int t, RandomNumbers& rng, bool weighted,
                        const ExtraTechnique* extra) {
     StrategySample out;
     Vertex sampled;  // the vertex the strategy makes itself (s = 1, t = 1), for the weight

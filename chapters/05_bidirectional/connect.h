@@ -34,7 +34,7 @@ Color join(const Bidir& b, const Vertex& y, const Vertex& z);
 // Draws random numbers only for s = 1 (the light sample). `extra`: another technique counted
 // among those of the weight (mis.h), or none.
 StrategySample connect(const Bidir& b, std::span<const Vertex> light, int s,
-                       std::span<const Vertex> camera, int t, Rng& rng, bool weighted,
+                       std::span<const Vertex> camera, int t, RandomNumbers& rng, bool weighted,
                        const ExtraTechnique* extra = nullptr);
 
 }  // namespace lessons

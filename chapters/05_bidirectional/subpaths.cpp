@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "04_rendering_equation/rendering_equation.h"
+#include "sampling/rng.h"
 #include "sampling/sampling.h"
 
 namespace lessons {
@@ -140,7 +141,7 @@ Vertex surface_vertex(const Bidir& b, const Ray& ray, const Hit& hit, const Colo
 // correction; camera subpaths carry radiance. `scatter(vertex)` picks the next direction: the
 // BSDF's sample in the lesson's walks (and the path given to subpaths_along, below).
 template <class Scatter>
-void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_vertices,
+void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, RandomNumbers& rng, int max_vertices,
           int roulette_after, Transport transport, std::vector<Vertex>& path, Scatter&& scatter) {
     const Color beta_start = beta;
     for (int bounce = 0; static_cast<int>(path.size()) < max_vertices; ++bounce) {
@@ -187,7 +188,7 @@ void walk(const Bidir& b, Ray ray, Color beta, float pdf_dir, Rng& rng, int max_
     }
 }
 
-void random_walk(const Bidir& b, const Ray& ray, Color beta, float pdf_dir, Rng& rng,
+void random_walk(const Bidir& b, const Ray& ray, Color beta, float pdf_dir, RandomNumbers& rng,
                  int max_vertices, int roulette_after, Transport transport,
                  std::vector<Vertex>& path) {
     walk(b, ray, beta, pdf_dir, rng, max_vertices, roulette_after, transport, path,
@@ -196,8 +197,8 @@ void random_walk(const Bidir& b, const Ray& ray, Color beta, float pdf_dir, Rng&
 
 }  // namespace
 
-void camera_subpath(const Bidir& b, const Ray& ray, Rng& rng, int max_vertices, int roulette_after,
-                    std::vector<Vertex>& path) {
+void camera_subpath(const Bidir& b, const Ray& ray, RandomNumbers& rng, int max_vertices,
+                    int roulette_after, std::vector<Vertex>& path) {
     path.clear();
     Vertex camera;
     camera.type = VertexType::Camera;
@@ -208,7 +209,7 @@ void camera_subpath(const Bidir& b, const Ray& ray, Rng& rng, int max_vertices, 
                 roulette_after, Transport::Radiance, path);
 }
 
-void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_after,
+void light_subpath(const Bidir& b, RandomNumbers& rng, int max_vertices, int roulette_after,
                    std::vector<Vertex>& path) {
     path.clear();
     const float u_choose = rng.uniform();

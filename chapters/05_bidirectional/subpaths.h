@@ -17,7 +17,7 @@
 
 #include "lights/lights.h"
 #include "materials/bsdf.h"
-#include "sampling/rng.h"
+#include "sampling/random_numbers.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -40,11 +40,11 @@ struct Vertex {
     // Unit geometric normal: of the surface, or of a light's emitting side; zero for points (the
     // camera's pinhole, a point light) and for lights at infinity.
     Vec3 n{0.0f};
-    bool infinite = false;           // the environment
-    bool point_light = false;        // a point light: a delta position, never hit by a camera path
-    bool directional = false;        // a directional light: a delta direction, never hit either;
-                                     // its light crosses the scene in parallel, so the density
-                                     // of the next vertex is per m^2 across the beam, times cos
+    bool infinite = false;     // the environment
+    bool point_light = false;  // a point light: a delta position, never hit by a camera path
+    bool directional = false;  // a directional light: a delta direction, never hit either;
+                               // its light crosses the scene in parallel, so the density
+                               // of the next vertex is per m^2 across the beam, times cos
     uint32_t light_index = 0;  // a point or directional light's, into the scene's list of them
     std::optional<PrimRef> emitter;  // a Light vertex on an emissive surface
     SurfaceInteraction si{};         // Surface vertices: the hit (si.wo points back along the
@@ -103,11 +103,11 @@ float light_sample_density(const Bidir& b, const Vertex& v, const Vertex& from);
 
 // The camera subpath of the primary ray: z_0 the pinhole, then up to max_vertices - 1 hits (and
 // a last vertex at the environment if the path escapes into a sky).
-void camera_subpath(const Bidir& b, const Ray& ray, Rng& rng, int max_vertices, int roulette_after,
-                    std::vector<Vertex>& path);
+void camera_subpath(const Bidir& b, const Ray& ray, RandomNumbers& rng, int max_vertices,
+                    int roulette_after, std::vector<Vertex>& path);
 // A light subpath: y_0 on a light chosen by power, then up to max_vertices - 1 hits. Empty when
 // the chosen light starts none (the environment).
-void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_after,
+void light_subpath(const Bidir& b, RandomNumbers& rng, int max_vertices, int roulette_after,
                    std::vector<Vertex>& path);
 
 // Both subpaths of one given path x_0 ... x_{n-1}, made vertex by vertex as the walks above make
@@ -115,11 +115,12 @@ void light_subpath(const Bidir& b, Rng& rng, int max_vertices, int roulette_afte
 // the BSDF would have sampled it with), so that a strategy's weights can be checked against all
 // the others' on the same path (tests/test_bidirectional.cpp). `light` is x_0: a light vertex
 // (p and n, its emitting side's normal, and emitter; or point_light and p; or infinite and p,
-// the direction towards the sky; or directional and p, the direction towards that light); `points` are x_1 .. x_{n-2}, each where a ray from the vertex
-// before meets the scene first; x_{n-1} is the camera. The camera subpath goes from the camera
-// to x_0 (to x_1 for a point light, which no camera path reaches), the light subpath from x_0 to
-// x_{n-2} (none for the sky; its y_0.pdf_fwd is 0 if the light is never chosen). Nothing if some
-// segment is blocked, or a direction has density 0 (then `why` says which).
+// the direction towards the sky; or directional and p, the direction towards that light); `points`
+// are x_1 .. x_{n-2}, each where a ray from the vertex before meets the scene first; x_{n-1} is the
+// camera. The camera subpath goes from the camera to x_0 (to x_1 for a point light, which no camera
+// path reaches), the light subpath from x_0 to x_{n-2} (none for the sky; its y_0.pdf_fwd is 0 if
+// the light is never chosen). Nothing if some segment is blocked, or a direction has density 0
+// (then `why` says which).
 struct GivenSubpaths {
     std::vector<Vertex> light, camera;
 };

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "geometry/math.h"
+#include "sampling/random_numbers.h"
 
 namespace lessons {
 
@@ -41,7 +42,9 @@ constexpr std::array<std::array<uint32_t, 256>, 4> sobol_byte_tables() {
 inline constexpr std::array<std::array<uint32_t, 256>, 4> kSobolByteTables = sobol_byte_tables();
 }  // namespace detail
 
-class Rng {
+// Final, so that a call on an Rng itself (lessons 1 to 4, and every caller that holds one) is a
+// direct call; lessons 5 and 6 take any RandomNumbers (random_numbers.h).
+class Rng final : public RandomNumbers {
 public:
     // A generator for one (seed, pixel, sample) triple. Streams differ per pixel, states per
     // sample, so no two pixel samples share a sequence.
@@ -105,7 +108,7 @@ public:
 
     // Uniform in [0, 1): the top 24 bits scaled by 2^-24, so the largest value is 1 - 2^-24,
     // exactly representable and strictly below 1.
-    float uniform() {
+    float uniform() override {
         if (scrambled_sobol_ && dimension_ < kSobolPairDims) {
             // A pair's two values share their index and keys: both are made at its first.
             const int d = dimension_++;
@@ -121,7 +124,7 @@ public:
     // pixel). With --sampler sobol they are one pair of the sequence, so stratified together:
     // after an odd number of values the next one is skipped, so that the pair starts at an even
     // dimension. The other samplers give the next two values.
-    Vec2 uniform2() {
+    Vec2 uniform2() override {
         if (scrambled_sobol_ && (dimension_ & 1) && dimension_ < kSobolPairDims) ++dimension_;
         const float a = uniform();
         return {a, uniform()};
@@ -132,15 +135,17 @@ private:
     // about the binary point; dimension 1 has the generator columns v_1 = 1/2,
     // v_k = v_{k-1} XOR v_{k-1}/2 (Pascal's triangle mod 2), XORed together for the bits set in i.
     float sobol_value(int d) const {
-        const uint32_t bits = sobol_bits(static_cast<uint32_t>(sample_), d) ^
-                              static_cast<uint32_t>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 32);
+        const uint32_t bits =
+            sobol_bits(static_cast<uint32_t>(sample_), d) ^
+            static_cast<uint32_t>(mix_bits(key_ + static_cast<uint64_t>(d)) >> 32);
         return static_cast<float>(bits >> 8) * 0x1p-24f;
     }
     // Sobol's first two dimensions of index i, as 32-bit fractions; dimension 1 by a table of
     // the XOR of its columns for each value of each byte of i (four lookups, not 32 steps).
     static uint32_t sobol_bits(uint32_t i, int d) {
         if (d == 0) return reverse_bits(i);
-        return detail::kSobolByteTables[0][i & 255u] ^ detail::kSobolByteTables[1][(i >> 8) & 255u] ^
+        return detail::kSobolByteTables[0][i & 255u] ^
+               detail::kSobolByteTables[1][(i >> 8) & 255u] ^
                detail::kSobolByteTables[2][(i >> 16) & 255u] ^ detail::kSobolByteTables[3][i >> 24];
     }
 
@@ -174,8 +179,8 @@ private:
         const uint32_t index =
             owen_scramble(static_cast<uint32_t>(sample_), static_cast<uint32_t>(pair_key));
         const auto value = [&](int e) {
-            const uint32_t bits =
-                owen_scramble(sobol_bits(index, e), static_cast<uint32_t>(mix_bits(pair_key + 1 + e)));
+            const uint32_t bits = owen_scramble(sobol_bits(index, e),
+                                                static_cast<uint32_t>(mix_bits(pair_key + 1 + e)));
             return static_cast<float>(bits >> 8) * 0x1p-24f;
         };
         pair_second_ = value(1);
