@@ -88,6 +88,9 @@ merge)
     check_lesson 05_bidirectional l5 --scene scenes/cornell_spheres.toml --strategies 2
     check_lesson 06_photon_mapping l6 --scene scenes/cornell_spheres.toml --techniques
     check_lesson 06_photon_mapping l6p --scene scenes/cornell_spheres.toml --method ppm
+    # Lesson 7's passes are rounds of chains over the whole image (the render loop sees no
+    # splats), so a crop runs its passes' chains whole and keeps its pixels: both splits.
+    check_lesson 07_metropolis l7 --scene scenes/cornell_spheres.toml
     ;;
 
 refusals)
