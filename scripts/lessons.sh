@@ -84,9 +84,9 @@ RUNS+=(
 SCENES=("cornell_spheres|The Cornell box with a mirror and a glass sphere|$SIZE|$SIZE"
         "whitted_1979|Whitted 1979: spheres and checkerboard|$((SIZE * 4 / 3))|$SIZE"
         "kajiya_1986|Kajiya 1986: grey objects, green glass balls, a red base|$((SIZE * 4 / 3))|$SIZE"
-        # Lit only through a door's gap: every lesson but 7 is a field of fireflies here, its
-        # reference too at the others' sample count, so it takes four times as many (--thorough's
-        # 8192 spp are already eight times the default's).
+        # Lit only through a door's gap: lesson 4, which renders its reference, is a field of
+        # fireflies here at the others' sample count, so it takes four times as many
+        # (--thorough's 8192 spp are already eight times the default's).
         "door_ajar|A room lit through a door left ajar (after Veach and Guibas 1997)|$((SIZE * 3 / 2))|$SIZE|4")
 
 sections=""

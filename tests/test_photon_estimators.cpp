@@ -242,11 +242,6 @@ TEST(Ppm, TheErrorFallsWithoutLevellingOff) {
 
 namespace {
 
-bool same_bits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
-}
-
 // The box with a mirror and a glass ball (caustics, chains of delta vertices), small but with
 // N = 768 light subpaths per pass: three parts of at least 256 (photons.cpp), so each of three
 // threads traces some.
@@ -271,8 +266,8 @@ TEST(PhotonMapping, IsTheSameForAnyNumberOfThreads) {
     // for vcm (joins, merges, light tracing), ppm (a radius that changes every pass) and vpl (the
     // pass's virtual lights).
     const Scene scene = small_cornell_spheres();
-    for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive,
-                                      PhotonMethod::VirtualLights}) {
+    for (const PhotonMethod method :
+         {PhotonMethod::VertexMerging, PhotonMethod::Progressive, PhotonMethod::VirtualLights}) {
         const PhotonOptions options = with_layers(method);
         std::vector<RenderResult> results;
         for (const int threads : {1, 2, 3})
@@ -282,11 +277,12 @@ TEST(PhotonMapping, IsTheSameForAnyNumberOfThreads) {
         EXPECT_GT(test::image_mean(results[0].image, results[0].variance).first, 0.0);
         for (size_t k = 1; k < results.size(); ++k) {
             const char* name = photon_method_name(method);
-            EXPECT_TRUE(same_bits(results[0].image, results[k].image)) << name << ", " << k + 1;
-            EXPECT_TRUE(same_bits(results[0].variance, results[k].variance))
+            EXPECT_TRUE(test::same_bits(results[0].image, results[k].image))
+                << name << ", " << k + 1;
+            EXPECT_TRUE(test::same_bits(results[0].variance, results[k].variance))
                 << name << ", " << k + 1 << " threads";
             for (size_t l = 0; l < results[0].layers.size(); ++l)
-                EXPECT_TRUE(same_bits(results[0].layers[l], results[k].layers[l]))
+                EXPECT_TRUE(test::same_bits(results[0].layers[l], results[k].layers[l]))
                     << name << ", layer " << l << ", " << k + 1 << " threads";
         }
     }
@@ -300,8 +296,8 @@ TEST(PhotonMapping, PassesSplitAcrossPartsMergeIntoTheSingleRun) {
     // and vpl, with their technique images.
     const Scene scene = small_cornell_spheres();
     const RenderSettings settings = test::quiet_settings(95);
-    for (const PhotonMethod method : {PhotonMethod::VertexMerging, PhotonMethod::Progressive,
-                                      PhotonMethod::VirtualLights}) {
+    for (const PhotonMethod method :
+         {PhotonMethod::VertexMerging, PhotonMethod::Progressive, PhotonMethod::VirtualLights}) {
         const char* name = photon_method_name(method);
         const PhotonOptions options = with_layers(method);
         const PhotonMappingModel single_model(scene, options);
@@ -330,7 +326,7 @@ TEST(PhotonMapping, PassesSplitAcrossPartsMergeIntoTheSingleRun) {
                 differ += a[i].valid != b[i].valid || a[i].sum[0] != b[i].sum[0] ||
                           a[i].sum[1] != b[i].sum[1] || a[i].sum[2] != b[i].sum[2];
             EXPECT_EQ(differ, 0u) << name << ", film " << f << ": pixels whose sums differ";
-            EXPECT_TRUE(same_bits(single.films()[f].mean(), merged[f].mean()))
+            EXPECT_TRUE(test::same_bits(single.films()[f].mean(), merged[f].mean()))
                 << name << ", film " << f;
         }
     }
@@ -366,7 +362,7 @@ TEST(PhotonMapping, PmAndPpmCropsRenderedApartMergeIntoTheSingleRun) {
                 merged[f].add_window(crop.films()[f], x0, y0);
         }
         for (size_t f = 0; f < merged.size(); ++f)
-            EXPECT_TRUE(same_bits(single.films()[f].mean(), merged[f].mean()))
+            EXPECT_TRUE(test::same_bits(single.films()[f].mean(), merged[f].mean()))
                 << name << ", film " << f;
     }
     const PhotonMappingModel vcm(scene, with_layers(PhotonMethod::VertexMerging));

@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <glm/vec3.hpp>
 #include <memory>
 #include <span>
 #include <utility>
 #include <vector>
 
+#include "io/image.h"
 #include "render/render.h"
 #include "sampling/rng.h"
 #include "sampling/sampling.h"
@@ -161,6 +163,12 @@ inline std::shared_ptr<const EnvironmentMap> structured_environment_map(float ro
                                           : Color(0.05f, 0.04f, 0.03f);
     texels[bright_row * w + 5] = Color(bright);
     return std::make_shared<const EnvironmentMap>(w, h, texels, rotate, strength);
+}
+
+// Whether two images are the same size and the same bits.
+inline bool same_bits(const Image& a, const Image& b) {
+    return a.width == b.width && a.height == b.height &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
 }
 
 }  // namespace lessons::test

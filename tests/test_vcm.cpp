@@ -258,16 +258,6 @@ TEST(Vcm, AWeighedPhotonGivesItsMergeTheWeightThatSumsToOneWithTheJoins) {
     EXPECT_GT(merges, 30);
 }
 
-namespace {
-
-// Whether two images hold the same floats, bit for bit.
-bool same_bits(const Image& a, const Image& b) {
-    return a.width == b.width && a.height == b.height &&
-           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(Color)) == 0;
-}
-
-}  // namespace
-
 TEST(Vcm, WithoutMergingIsLessonFiveBitForBit) {
     // --method bpt is vertex connection and merging without the merges: lesson 5's strategies,
     // weighted by lesson 5's weights (no extra technique), its light subpaths from the same
@@ -285,8 +275,8 @@ TEST(Vcm, WithoutMergingIsLessonFiveBitForBit) {
             render_scene(scene, PhotonMappingModel(scene, options), 8, test::quiet_settings(91));
         const RenderResult five = render_scene(scene, BidirectionalModel(scene, options.paths), 8,
                                                test::quiet_settings(91));
-        EXPECT_TRUE(same_bits(six.image, five.image)) << file;
-        EXPECT_TRUE(same_bits(six.variance, five.variance)) << file;
+        EXPECT_TRUE(test::same_bits(six.image, five.image)) << file;
+        EXPECT_TRUE(test::same_bits(six.variance, five.variance)) << file;
         EXPECT_GT(test::image_mean(five.image, five.variance).first, 0.0) << file;
     }
 }
@@ -308,21 +298,22 @@ TEST(Vcm, MergesOnlyWhereTheSceneHasADeltaSurface) {
     EXPECT_FALSE(merges_in(box, Merging::Auto));
     const RenderResult five = render_scene(box, BidirectionalModel(box, {}), 4, settings);
     const auto [auto_box, auto_notes] = render_vcm(box, Merging::Auto);
-    EXPECT_TRUE(same_bits(auto_box.image, five.image));
-    EXPECT_TRUE(same_bits(auto_box.variance, five.variance));
+    EXPECT_TRUE(test::same_bits(auto_box.image, five.image));
+    EXPECT_TRUE(test::same_bits(auto_box.variance, five.variance));
     ASSERT_FALSE(auto_notes.empty());
     EXPECT_NE(auto_notes[0].find("merging left out"), std::string::npos) << auto_notes[0];
-    EXPECT_FALSE(same_bits(render_vcm(box, Merging::Always).first.image, five.image));
+    EXPECT_FALSE(test::same_bits(render_vcm(box, Merging::Always).first.image, five.image));
 
     const Scene spheres =
         load_scene(std::string(LESSONS_SOURCE_DIR) + "/scenes/cornell_spheres.toml", {24, 16});
     EXPECT_TRUE(merges_in(spheres, Merging::Auto));
     const RenderResult always = render_vcm(spheres, Merging::Always).first;
-    EXPECT_TRUE(same_bits(render_vcm(spheres, Merging::Auto).first.image, always.image));
+    EXPECT_TRUE(test::same_bits(render_vcm(spheres, Merging::Auto).first.image, always.image));
     const RenderResult spheres_five =
         render_scene(spheres, BidirectionalModel(spheres, {}), 4, settings);
-    EXPECT_TRUE(same_bits(render_vcm(spheres, Merging::Never).first.image, spheres_five.image));
-    EXPECT_FALSE(same_bits(always.image, spheres_five.image));
+    EXPECT_TRUE(
+        test::same_bits(render_vcm(spheres, Merging::Never).first.image, spheres_five.image));
+    EXPECT_FALSE(test::same_bits(always.image, spheres_five.image));
 }
 
 namespace {

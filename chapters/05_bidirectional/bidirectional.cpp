@@ -41,6 +41,14 @@ Color bidirectional(const Bidir& b, const Ray& ray, RandomNumbers& rng, const Bi
     return L;
 }
 
+std::optional<std::string> strategies_miss(const SceneContents& contents) {
+    if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
+        return "a point or directional light seen in a mirror or through glass is missing, and so "
+               "is its caustic seen that way: a delta BSDF next to each end of the path leaves no "
+               "strategy to join them (the caustic seen directly is found)";
+    return std::nullopt;
+}
+
 BidirectionalModel::BidirectionalModel(const Scene& scene, const BidirOptions& options)
     : lights_(scene),
       b_{scene, lights_, scene.camera, scene.width, scene.height},
@@ -81,12 +89,8 @@ BidirectionalModel::BidirectionalModel(const Scene& scene, const BidirOptions& o
         notes.push_back(
             "the sky starts no light subpaths: its light is found by camera paths that escape "
             "(s = 0) and by light samples (s = 1), as in lesson 4");
-    if ((contents.point_lights || contents.directional_lights) && contents.delta_materials)
-        biased_because.push_back(
-            "a point or directional light seen in a mirror or through glass is missing, and so is "
-            "its caustic "
-            "seen that way: a delta BSDF next to each end of the path leaves no strategy to join "
-            "them (the caustic seen directly is found)");
+    if (std::optional<std::string> missing = strategies_miss(contents))
+        biased_because.push_back(*missing);
     add_path_length_notes(*this, options.max_depth, options.roulette_after);  // both subpaths
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }

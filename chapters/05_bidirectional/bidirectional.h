@@ -18,7 +18,9 @@
 #pragma once
 
 #include <algorithm>
+#include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "04_rendering_equation/rendering_equation.h"
@@ -61,6 +63,10 @@ void for_each_strategy(const Bidir& b, std::span<const Vertex> camera,
 // lands on.
 Color bidirectional(const Bidir& b, const Ray& ray, RandomNumbers& rng, const BidirOptions& options,
                     std::span<Color> layers, std::vector<Splat>& splats);
+
+// What no strategy of this lesson can find in a scene of these contents, as the report's bias
+// (lesson 7, whose states are these strategies, misses it too); nothing if it finds everything.
+std::optional<std::string> strategies_miss(const SceneContents& contents);
 
 // Lesson 5 as a model the render loop runs: bidirectional for every pixel sample (splatting
 // its light tracing), with its own light sampler. `scene` must outlive it.

@@ -71,9 +71,10 @@ struct ChainRun {
     uint64_t non_finite = 0;  // proposals whose light was not finite: refused, not splatted
 };
 
-// Chain `index`: its start from the bootstrap (a uniform number of Rng(seed, chain_stream,
-// index)), then `mutations` proposals, each splatting both outcomes; its own numbers from that
-// Rng. Stops early if `stop` is set. A bootstrap with b = 0 runs no chain.
+// Chain `index`: its start from the bootstrap, then `mutations` proposals, each splatting both
+// outcomes. Its decisions (the start, each acceptance) come from Rng(seed, chain_stream,
+// 2 index), its new numbers from Rng(seed, chain_stream, 2 index + 1). Stops early if `stop` is
+// set. A bootstrap with b = 0 runs no chain.
 ChainRun run_chain(const ChainTarget& target, const Bootstrap& boot, uint64_t chain_stream,
                    uint64_t index, int64_t mutations, const ChainSettings& settings,
                    ChainStart start = ChainStart::Resampled,

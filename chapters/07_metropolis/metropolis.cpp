@@ -11,6 +11,7 @@
 #include "05_bidirectional/bidirectional.h"
 #include "07_metropolis/multiplexed.h"
 #include "accel/parallel.h"
+#include "io/input_error.h"
 #include "io/report.h"
 
 namespace lessons {
@@ -21,12 +22,8 @@ namespace {
 // other and from every pixel sample of the lessons before (which use the pixel's index).
 constexpr uint64_t kBootstrapStreams = 0xb0075ULL << 40;
 constexpr uint64_t kChainStreams = 0xc4a1ULL << 40;
-
-std::string number(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", v);
-    return text;
-}
+// The most memory one pass's splats may take.
+constexpr double kMostSplatBytes = 4096.0 * 1048576.0;
 
 }  // namespace
 
@@ -38,13 +35,16 @@ MetropolisModel::MetropolisModel(const Scene& scene, const MetropolisOptions& op
     chain_.sigma = options.sigma;
     chain_.large_step_probability = options.large_step_probability;
     chain_.streams = kStreams;
-    notes.push_back(
-        "estimator: Metropolis light transport in primary sample space, " +
-        std::to_string(options.chains) + " chains per pass making " +
-        std::to_string(options.mutations) +
-        " mutation(s) per pixel between them, each state one of lesson 5's strategies (s, t) "
-        "with its MIS weight (multiplexed MLT); large steps " +
-        number(options.large_step_probability) + ", small steps sigma " + number(options.sigma));
+    char steps[96];
+    std::snprintf(steps, sizeof steps, "large steps %.4g, small steps sigma %.4g",
+                  static_cast<double>(options.large_step_probability),
+                  static_cast<double>(options.sigma));
+    notes.push_back("estimator: Metropolis light transport in primary sample space, " +
+                    std::to_string(options.chains) + " chains per pass making " +
+                    std::to_string(options.mutations) +
+                    " mutation(s) per pixel between them, each state one of lesson 5's "
+                    "strategies (s, t) with its MIS weight (multiplexed MLT); " +
+                    std::string(steps));
     notes.push_back(
         "what MLT trades: a chain's samples are correlated (noise comes in blotches and streaks, "
         "not grain), the pixels are not estimated independently, and effort goes where the light "
@@ -59,11 +59,17 @@ MetropolisModel::MetropolisModel(const Scene& scene, const MetropolisOptions& op
             "1 / (k (k + 1)), up to a safety cut at " +
             std::to_string(kLongestPath) + " segments");
     // Lesson 5's strategies miss what lesson 5 misses.
-    BidirOptions strategies;
-    strategies.max_depth = options.max_depth;
-    const BidirectionalModel lesson5(scene, strategies);
-    for (const std::string& why : lesson5.biased_because)
-        if (why.find("segments") == std::string::npos) biased_because.push_back(why);
+    if (std::optional<std::string> missing = strategies_miss(scene.contents()))
+        biased_because.push_back(*missing);
+    // Two splats a mutation, kept until the pass's chains are summed in order.
+    const double splat_bytes = 2.0 * sizeof(ChainSplat) * static_cast<double>(pass_mutations());
+    if (splat_bytes > kMostSplatBytes)
+        throw InputError("command line", 0, "--mutations",
+                         "a pass of " + std::to_string(pass_mutations()) + " mutations keeps " +
+                             std::to_string(static_cast<int64_t>(splat_bytes / 1048576.0)) +
+                             " MiB of splats, over the cap of " +
+                             std::to_string(static_cast<int64_t>(kMostSplatBytes / 1048576.0)) +
+                             " MiB (fewer --mutations per pass, or a smaller image)");
     if (lights_.empty()) notes.push_back("the scene has no lights: only emission is visible");
 }
 
@@ -100,6 +106,8 @@ void MetropolisModel::begin_pass(int k, const RenderSettings& settings) const {
                 length, chain_, ChainStart::Resampled, settings.stop);
         }
     });
+    // An interrupted pass is dropped whole by the render loop: its figures are not the run's.
+    if (settings.stop && settings.stop->load()) return;
     // The pass's image: b / (mutations per pixel) times the splats, in chain order.
     image_.assign(static_cast<size_t>(b_.width) * b_.height, Color(0.0f));
     const double scale =

@@ -52,31 +52,43 @@ float PrimarySamples::next(int k) {
 
 void PrimarySamples::bring_up_to_date(Number& x) {
     if (x.changed == iteration_) return;  // already read by this proposal
+    if (large_step_) {
+        // The proposal's number, independent of the state's: the state's own stays as it was,
+        // made or not.
+        x.saved_value = x.value;
+        x.saved_changed = x.changed;
+        x.value = fresh_.uniform();
+        x.changed = iteration_;
+        return;
+    }
+    // A small step moves the state's own number: first make that number as the state holds it,
+    // which stays the state's whether the proposal is accepted or not (drawing it afresh after a
+    // rejection would give the proposals that read it a new try each time, and bias the chain
+    // towards them). Not read since the last accepted large step (or never): as that step made
+    // it; then every accepted small step since, at once.
+    if (x.changed < last_large_step_) {
+        x.value = fresh_.uniform();
+        x.changed = last_large_step_;
+    }
+    move(x, iteration_ - 1 - x.changed);
+    x.changed = iteration_ - 1;
+    // Then the proposal's own step, undone on rejection.
     x.saved_value = x.value;
     x.saved_changed = x.changed;
-    if (large_step_) {
-        x.value = fresh_.uniform();
-    } else {
-        // Not read since the last accepted large step (or never): first as that step made it.
-        if (x.changed < last_large_step_) {
-            x.value = fresh_.uniform();
-            x.changed = last_large_step_;
-        }
-        // Then every accepted small step since, at once.
-        const int64_t steps = iteration_ - x.changed;
-        if (steps > 0) {
-            const float u1 = fresh_.uniform();
-            const float u2 = fresh_.uniform();
-            const double moved =
-                static_cast<double>(x.value) + static_cast<double>(sigma_) *
-                                                   std::sqrt(static_cast<double>(steps)) *
-                                                   standard_normal(u1, u2);
-            float wrapped = static_cast<float>(moved - std::floor(moved));
-            if (wrapped >= 1.0f) wrapped = 0.0f;  // 1 - 2^-60 rounds up: the same point as 0
-            x.value = wrapped;
-        }
-    }
+    move(x, 1);
     x.changed = iteration_;
+}
+
+void PrimarySamples::move(Number& x, int64_t steps) {
+    if (steps <= 0) return;
+    const float u1 = fresh_.uniform();
+    const float u2 = fresh_.uniform();
+    const double moved = static_cast<double>(x.value) + static_cast<double>(sigma_) *
+                                                            std::sqrt(static_cast<double>(steps)) *
+                                                            standard_normal(u1, u2);
+    float wrapped = static_cast<float>(moved - std::floor(moved));
+    if (wrapped >= 1.0f) wrapped = 0.0f;  // just below a whole number rounds up: the same as 0
+    x.value = wrapped;
 }
 
 std::vector<PrimarySamples::Entry> PrimarySamples::entries() const {

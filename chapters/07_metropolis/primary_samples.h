@@ -12,7 +12,9 @@
 // number last changed n small steps ago gets all n at once: the sum of n independent normal
 // steps is one normal step of deviation sigma sqrt(n), and wrapping commutes with the sum. A
 // number never read since the last accepted large step is first redrawn as that step would have.
-// On rejection every number read by the proposal gets back its value and its age, bit for bit.
+// Those catch-up values are the state's own numbers, kept whatever happens to the proposal; the
+// proposal's own change (its large step's new value, its small step's one move) is undone on
+// rejection, every number read by it getting back the state's value and age, bit for bit.
 //
 // Numbers are kept in streams (camera, light, connection: MultiplexedPath's), interleaved, so
 // that a change in how many numbers one walk reads (a path one bounce longer) does not shift
@@ -71,7 +73,6 @@ private:
     };
     class Stream final : public RandomNumbers {
     public:
-        Stream() = default;
         Stream(PrimarySamples* owner, int index) : owner_(owner), index_(index) {}
         float uniform() override { return owner_->next(index_); }
         Vec2 uniform2() override {
@@ -83,8 +84,10 @@ private:
         PrimarySamples* owner_ = nullptr;
         int index_ = 0;
     };
-    // Makes number i current for this iteration (lazily applying the steps it missed).
+    // Makes number x the proposal's (lazily applying the steps the state's own number missed).
     void bring_up_to_date(Number& x);
+    // Moves x by `steps` small steps at once (none if steps <= 0), wrapped around [0, 1).
+    void move(Number& x, int64_t steps);
 
     Rng fresh_;
     float sigma_;
