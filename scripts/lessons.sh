@@ -19,9 +19,10 @@
 #      flip/slider comparison, the error images, the chart, the converged-bias table and a table
 #      of the figures.
 # Usage: scripts/lessons.sh [--quick | --thorough | --references]
-#   default: ~256 px images, 4 s per run, the shipped references: about 10 minutes on 2 idle
-#   cores (9 min 38 s measured, the batch means of the converged-error table included);
-#   --quick: tiny images, 0.3 s per run, about a minute (66 s, its references included); --thorough: 512 px, 30 s per run, and
+#   default: ~256 px images, 4 s per run, the shipped references (9 min 38 s on 2 idle cores
+#   with three scenes and six lessons, the batch means of the converged-error table included;
+#   the door scene and lesson 7 add to it); --quick: tiny images, 0.3 s per run (66 s with
+#   three scenes, its references included); --thorough: 512 px, 30 s per run, and
 #   its own references (8192 spp, rendered once and cached in out/ with their provenance);
 #   --references: the default page, re-rendering the shipped references in references/ first
 #   (with new provenance files; about 6 minutes more on 2 idle cores).
