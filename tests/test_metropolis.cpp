@@ -20,12 +20,6 @@ using namespace lessons;
 
 namespace {
 
-RenderSettings independent(uint64_t seed, int threads = 0) {
-    RenderSettings settings = test::quiet_settings(seed, threads);
-    settings.sampler = RenderSettings::Sampler::Independent;
-    return settings;
-}
-
 double image_average(const Image& image) {
     double sum = 0.0;
     for (const Color& c : image.pixels) sum += static_cast<double>(luminance(c));
@@ -56,7 +50,8 @@ TEST(Metropolis, TheFurnaceIsItsClosedFormAndBIsTheImageMean) {
         std::vector<double> means, bs;
         for (int seed = 0; seed < 8; ++seed) {
             const MetropolisModel model(scene, options);
-            const RenderResult r = render_scene(scene, model, 8, independent(300 + seed));
+            const RenderResult r =
+                render_scene(scene, model, 8, test::independent_settings(300 + seed));
             EXPECT_EQ(r.nan_samples + r.inf_samples, 0u);
             means.push_back(image_average(r.image));
             bs.push_back(model.mean_b());
@@ -88,7 +83,8 @@ PixelAgreement against_lesson_five(const Scene& scene, const MetropolisOptions& 
     std::vector<double> means;
     for (int seed = 0; seed < K; ++seed) {
         const MetropolisModel model(scene, options);
-        const RenderResult r = render_scene(scene, model, passes, independent(700 + seed));
+        const RenderResult r =
+            render_scene(scene, model, passes, test::independent_settings(700 + seed));
         EXPECT_EQ(r.nan_samples + r.inf_samples, 0u);
         for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c) runs[3 * i + c].push_back(r.image.pixels[i][c]);
@@ -128,7 +124,7 @@ TEST(Metropolis, AgreesWithLessonFivePixelByPixelOnTheCornellBox) {
     // every pixel and channel; the image means agree too.
     const Scene scene = small_scene("cornell_box.toml", 16, 16);
     const BidirectionalModel five_model(scene, BidirOptions{});
-    const RenderResult five = render_scene(scene, five_model, 8192, independent(77));
+    const RenderResult five = render_scene(scene, five_model, 8192, test::independent_settings(77));
     const int K = 16;
     const double t_max = test::student_t_quantile(
         test::sidak(0.01, static_cast<int>(3 * five.image.pixels.size())), K - 1);
@@ -155,15 +151,15 @@ TEST(Metropolis, IsTheSameForAnyNumberOfThreadsAndForPartsMerged) {
     const MetropolisOptions options;
     std::vector<RenderResult> results;
     for (const int threads : {1, 2, 3})
-        results.push_back(
-            render_scene(scene, MetropolisModel(scene, options), 4, independent(5, threads)));
+        results.push_back(render_scene(scene, MetropolisModel(scene, options), 4,
+                                       test::independent_settings(5, threads)));
     EXPECT_GT(image_average(results[0].image), 0.0);
     for (size_t k = 1; k < results.size(); ++k) {
         EXPECT_TRUE(test::same_bits(results[0].image, results[k].image)) << k + 1 << " threads";
         EXPECT_TRUE(test::same_bits(results[0].variance, results[k].variance))
             << k + 1 << " threads";
     }
-    const RenderSettings settings = independent(5);
+    const RenderSettings settings = test::independent_settings(5);
     const MetropolisModel single_model(scene, options);
     ProgressiveFilms single(scene, single_model, 0.0f);
     ASSERT_TRUE(single.render_to(4, settings));

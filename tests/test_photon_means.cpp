@@ -307,12 +307,6 @@ std::vector<double> region_means(const Image& image, const std::vector<Region>& 
     return means;
 }
 
-RenderSettings independent(uint64_t seed) {
-    RenderSettings settings = test::quiet_settings(seed);
-    settings.sampler = RenderSettings::Sampler::Independent;
-    return settings;
-}
-
 // A method of lesson 6 and its passes per render.
 struct Method {
     const char* name;
@@ -333,7 +327,7 @@ void add_block_means(const Scene& scene, const Model& model, int passes, uint64_
     std::vector<double> before(regions.size(), 0.0);
     for (int block = 1; block <= kBlocks; ++block) {
         const int end = passes * block / kBlocks;
-        ASSERT_TRUE(films.render_to(end, independent(seed)));
+        ASSERT_TRUE(films.render_to(end, test::independent_settings(seed)));
         const RenderResult result = films.result();
         EXPECT_EQ(result.nan_samples + result.inf_samples, 0u) << name;
         const std::vector<double> means = region_means(result.image, regions);
@@ -377,9 +371,9 @@ void expect_means_match_lesson_five(const Scene& scene, float r, const std::vect
         add_block_means(scene, lesson5, lesson5_spp, 100 + seed, regions, batches[methods.size()],
                         "lesson 5");
     }
-    const double t_max =
-        test::student_t_quantile(test::sidak(0.01, static_cast<int>(methods.size() * regions.size())),
-                           kRenders * kBlocks - 1);
+    const double t_max = test::student_t_quantile(
+        test::sidak(0.01, static_cast<int>(methods.size() * regions.size())),
+        kRenders * kBlocks - 1);
     for (size_t k = 0; k < regions.size(); ++k) {
         const test::MeanAndError five = test::mean_and_error(batches[methods.size()][k]);
         std::printf("%-6s lesson 5 %.5f (standard error %.5f)\n", regions[k].name, five.mean,

@@ -29,6 +29,14 @@ inline RenderSettings quiet_settings(uint64_t seed, int threads = 0) {
     return settings;
 }
 
+// The same with independent samples (PCG32 per sample): each pixel's film variance is then the
+// error of its mean.
+inline RenderSettings independent_settings(uint64_t seed, int threads = 0) {
+    RenderSettings settings = quiet_settings(seed, threads);
+    settings.sampler = RenderSettings::Sampler::Independent;
+    return settings;
+}
+
 // A model made of a function of the primary ray and its random numbers, fn(ray, rng): a test's
 // own radiance through the render loop (it neither splats nor renders in passes).
 template <class Fn>

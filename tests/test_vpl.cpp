@@ -35,12 +35,6 @@ PhotonOptions vpl_options(float clamp, bool compensate, int vpls = 16, int max_d
     return options;
 }
 
-RenderSettings independent(uint64_t seed, int threads = 0) {
-    RenderSettings settings = test::quiet_settings(seed, threads);
-    settings.sampler = RenderSettings::Sampler::Independent;
-    return settings;
-}
-
 // The mean over the image's pixels, of channel x.
 double image_average(const Image& image) {
     double sum = 0.0;
@@ -80,17 +74,13 @@ TEST(Vpl, TheFurnaceIsItsClosedFormUncappedCappedAndCompensated) {
         double expected;
         int max_depth = 0;
     };
-    const Case cases[] = {{0.0f, false, full},
-                          {0.25f, false, full},
-                          {kappa * 0.25f, false, capped},
-                          {kappa * 0.25f, true, full},
-                          {0.0f, false, three, 3},
-                          {kappa * 0.25f, true, three, 3}};
+    const Case cases[] = {
+        {0.0f, false, full},         {0.25f, false, full},    {kappa * 0.25f, false, capped},
+        {kappa * 0.25f, true, full}, {0.0f, false, three, 3}, {kappa * 0.25f, true, three, 3}};
     const double z_max = test::z_quantile(test::sidak(0.01, 6 * 64));
     for (const Case& c : cases) {
-        const PhotonMappingModel model(scene,
-                                       vpl_options(c.clamp, c.compensate, 16, c.max_depth));
-        const RenderResult r = render_scene(scene, model, 256, independent(41));
+        const PhotonMappingModel model(scene, vpl_options(c.clamp, c.compensate, 16, c.max_depth));
+        const RenderResult r = render_scene(scene, model, 256, test::independent_settings(41));
         EXPECT_EQ(r.nan_samples + r.inf_samples, 0u);
         double worst = 0.0, mean = 0.0;
         for (size_t i = 0; i < r.image.pixels.size(); ++i) {
@@ -210,9 +200,11 @@ TEST(Vpl, GlossyAndMetalLitOnlyByVirtualLightsMatchLessonFive) {
     std::vector<double> vpl, bpt;
     for (uint64_t seed = 1; seed <= 8; ++seed) {
         const PhotonMappingModel ir(scene, vpl_options(0.0f, false, 32));
-        vpl.push_back(image_average(render_scene(scene, ir, 64, independent(seed)).image));
+        vpl.push_back(
+            image_average(render_scene(scene, ir, 64, test::independent_settings(seed)).image));
         const BidirectionalModel lesson5(scene, BidirOptions{});
-        bpt.push_back(image_average(render_scene(scene, lesson5, 64, independent(100 + seed)).image));
+        bpt.push_back(image_average(
+            render_scene(scene, lesson5, 64, test::independent_settings(100 + seed)).image));
     }
     const auto [m_vpl, se_vpl] = test::mean_and_error(vpl);
     const auto [m_bpt, se_bpt] = test::mean_and_error(bpt);
@@ -226,7 +218,8 @@ TEST(Vpl, GlossyAndMetalLitOnlyByVirtualLightsMatchLessonFive) {
     std::vector<double> capped;
     for (uint64_t seed = 1; seed <= 8; ++seed) {
         const PhotonMappingModel ir(scene, vpl_options(-1.0f, false, 32));
-        capped.push_back(image_average(render_scene(scene, ir, 64, independent(seed)).image));
+        capped.push_back(
+            image_average(render_scene(scene, ir, 64, test::independent_settings(seed)).image));
     }
     const auto [m_cap, se_cap] = test::mean_and_error(capped);
     std::printf("vpl with the default cap %.5f (se %.5f)\n", m_cap, se_cap);
@@ -243,15 +236,16 @@ TEST(Vpl, ItsTechniqueImagesAddUpToTheImage) {
     const Scene scene = load_text("vpl_indirect_box_layers", kIndirectBox);
     PhotonOptions options = vpl_options(-1.0f, true);
     options.technique_layers = true;
-    const RenderResult r = render_scene(scene, PhotonMappingModel(scene, options), 4, independent(7));
+    const RenderResult r =
+        render_scene(scene, PhotonMappingModel(scene, options), 4, test::independent_settings(7));
     ASSERT_EQ(r.layers.size(), 3u);
     double worst = 0.0;
     for (size_t i = 0; i < r.image.pixels.size(); ++i) {
         Color sum(0.0f);
         for (const Image& layer : r.layers) sum += layer.pixels[i];
         const Color d = sum - r.image.pixels[i];
-        worst = std::max(worst, static_cast<double>(std::max({std::fabs(d.x), std::fabs(d.y),
-                                                              std::fabs(d.z)})));
+        worst = std::max(
+            worst, static_cast<double>(std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)})));
     }
     EXPECT_LT(worst, 1e-4 * std::max(1.0, image_average(r.image)));
     EXPECT_GT(image_average(r.layers[1]), 0.0);  // the virtual lights
