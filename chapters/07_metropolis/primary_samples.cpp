@@ -17,6 +17,7 @@ PrimarySamples::PrimarySamples(Rng fresh, float sigma, float large_step_probabil
 
 bool PrimarySamples::propose() {
     ++iteration_;
+    changed_now_.clear();
     large_step_ = fresh_.uniform() < large_step_probability_;
     return large_step_;
 }
@@ -26,11 +27,12 @@ void PrimarySamples::accept() {
 }
 
 void PrimarySamples::reject() {
-    for (Number& x : numbers_)
-        if (x.changed == iteration_) {
-            x.value = x.saved_value;
-            x.changed = x.saved_changed;
-        }
+    for (const size_t i : changed_now_) {
+        Number& x = numbers_[i];
+        x.value = x.saved_value;
+        x.changed = x.saved_changed;
+    }
+    changed_now_.clear();
     // The iteration counts accepted proposals only: a number that the rejected proposal did not
     // read has missed no step.
     --iteration_;
@@ -46,12 +48,14 @@ float PrimarySamples::next(int k) {
         static_cast<size_t>(stream_count_) * static_cast<size_t>(read_[static_cast<size_t>(k)]++);
     if (i >= numbers_.size()) numbers_.resize(i + 1);
     Number& x = numbers_[i];
-    bring_up_to_date(x);
+    if (x.changed != iteration_) {
+        bring_up_to_date(x);
+        changed_now_.push_back(i);
+    }
     return x.value;
 }
 
 void PrimarySamples::bring_up_to_date(Number& x) {
-    if (x.changed == iteration_) return;  // already read by this proposal
     if (large_step_) {
         // The proposal's number, independent of the state's: the state's own stays as it was,
         // made or not.

@@ -84,7 +84,8 @@ private:
         PrimarySamples* owner_ = nullptr;
         int index_ = 0;
     };
-    // Makes number x the proposal's (lazily applying the steps the state's own number missed).
+    // Makes number x, not yet read by this proposal, the proposal's (lazily applying the steps
+    // the state's own number missed).
     void bring_up_to_date(Number& x);
     // Moves x by `steps` small steps at once (none if steps <= 0), wrapped around [0, 1).
     void move(Number& x, int64_t steps);
@@ -96,6 +97,9 @@ private:
     std::vector<Stream> streams_;
     std::vector<int64_t> read_;  // per stream, numbers read since start_path
     std::vector<Number> numbers_;
+    // The numbers the proposal has read (and changed): all that a rejection restores, however
+    // long the state once was.
+    std::vector<size_t> changed_now_;
     int64_t iteration_ = 0;        // the proposal being made (0: the first state)
     int64_t last_large_step_ = 0;  // the iteration of the last accepted large step
     bool large_step_ = true;       // the first state is made of fresh numbers
