@@ -2,7 +2,7 @@
 # Every include points to the same floor or lower (docs/architecture.md, "The floors").
 #
 # The core's folders stand on floors, lowest first:
-#   0 geometry   1 sampling   2 accel, materials   3 scene   4 lights   5 io   6 render   7 farm
+#   0 geometry   1 sampling   2 accel, materials, media   3 scene   4 lights   5 io   6 render   7 farm
 #   8 driver
 # A file under common/F/ may include a header of its own folder or of a folder on a floor at or
 # below F's. The chapters stand above the core, in the lecture's order: a file of chapters/NN_*/
@@ -56,7 +56,7 @@ fi
 ROOT="$(cd "${1:-$(dirname "${BASH_SOURCE[0]}")/..}" && pwd)"
 cd "$ROOT"
 
-declare -A floor=([geometry]=0 [sampling]=1 [accel]=2 [materials]=2 [scene]=3 [lights]=4
+declare -A floor=([geometry]=0 [sampling]=1 [accel]=2 [materials]=2 [media]=2 [scene]=3 [lights]=4
                   [io]=5 [render]=6 [farm]=7 [driver]=8)
 
 status=0
