@@ -246,3 +246,79 @@ TEST(Cli, SameSeedSameImageAcrossThreadCounts) {
     EXPECT_EQ(read_file(dir / "bd1.exr"), read_file(dir / "bd2.exr"));
     EXPECT_EQ(read_file(dir / "bd1.exr"), read_file(dir / "bd3.exr"));
 }
+
+// Lessons 1 to 7 have no media: on a scene with fog filling the room and milk inside a sphere
+// each renders the surfaces exactly as without them (the same pixels), reports biased: true and
+// names the media it ignored; without media it says nothing of them.
+TEST(Cli, EveryLessonWithoutMediaRendersTheSurfacesAndSaysWhatItIgnored) {
+    const std::string room = R"([image]
+width = 16
+height = 12
+[camera]
+position = [0, 1, -3]
+look_at = [0, 1, 0]
+fov = 50
+[materials.white]
+type = "diffuse"
+albedo = [0.6, 0.6, 0.6]
+[materials.lamp]
+type = "diffuse"
+emission = [8, 8, 8]
+[[shapes]]
+type = "quad"
+material = "white"
+corner = [-2, 0, -4]
+edge_u = [0, 0, 6]
+edge_v = [4, 0, 0]
+[[shapes]]
+type = "quad"
+material = "lamp"
+corner = [-0.5, 2, 0]
+edge_u = [1, 0, 0]
+edge_v = [0, 0, 1]
+[[shapes]]
+type = "sphere"
+material = "white"
+center = [0, 0.5, 0.5]
+radius = 0.5
+)";
+    const std::string media = R"(
+[media.fog]
+type = "homogeneous"
+sigma_s = [0.2, 0.2, 0.2]
+g = 0.5
+[media.milk]
+type = "homogeneous"
+sigma_s = [30, 25, 20]
+)";
+    const fs::path dir = fresh_dir("media_ignored");
+    std::ofstream(dir / "plain.toml") << room;
+    // The sphere gets the milk inside it (its table is the last), and the fog fills space.
+    std::ofstream(dir / "fog.toml") << "medium = \"fog\"\n" << room << "interior = \"milk\"\n"
+                                    << media;
+    for (const std::string& lesson : lessons::test::registered_lesson_names()) {
+        SCOPED_TRACE(lesson);
+        lessons::Image images[2];
+        std::string reports[2];
+        int k = 0;
+        for (const char* scene : {"plain", "fog"}) {
+            const std::string out = (dir / (lesson + scene)).string();
+            const RunResult r = run(kBin + "/" + lesson + " --scene " +
+                                    (dir / (std::string(scene) + ".toml")).string() +
+                                    " --spp 2 --seed 3 --threads 1 --quiet --out " + out +
+                                    " --report " + out + ".json");
+            ASSERT_EQ(r.exit_code, 0) << r.output;
+            images[k] = lessons::read_exr(out + ".exr");
+            reports[k++] = read_file(out + ".json");
+        }
+        EXPECT_EQ(reports[0].find("media are ignored"), std::string::npos) << reports[0];
+        EXPECT_NE(reports[1].find("\"biased\": true"), std::string::npos) << reports[1];
+        EXPECT_NE(reports[1].find("the scene's media are ignored"), std::string::npos)
+            << reports[1];
+        EXPECT_NE(reports[1].find("fog (fills space"), std::string::npos) << reports[1];
+        EXPECT_NE(reports[1].find("milk (inside 1 shape(s)"), std::string::npos) << reports[1];
+        EXPECT_NE(reports[1].find("\"nan_pixels\": 0"), std::string::npos) << reports[1];
+        ASSERT_EQ(images[0].pixels.size(), images[1].pixels.size());
+        EXPECT_TRUE(images[0].pixels == images[1].pixels) << "the surfaces changed";
+    }
+}

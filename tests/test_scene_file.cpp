@@ -554,3 +554,143 @@ TEST(EnvironmentMapFile, NanAndLargeNegativeTexelsAreRefused) {
         }
     }
 }
+
+TEST(SceneFile, MediaMistakesNameFileLineAndField) {
+    // After the head and the sphere, lines 19 and 20; after the head alone, 13 and 14.
+    const std::string fog = "[media.fog]\ntype = \"homogeneous\"\n";
+    const std::string tetrahedron =
+        "vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]\n"
+        "faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]\n";
+    const std::vector<BadCase> cases = {
+        {"valid", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\n", 0, "", "(no error)"},
+        {"type", kValidHead + kSphere + "[media.fog]\ntype = \"homogenous\"\nsigma_s = [1,1,1]\n",
+         20, "media.fog.type", "did you mean 'homogeneous'"},
+        {"no coefficient", kValidHead + kSphere + fog, 19, "media.fog.sigma_s", "missing"},
+        {"negative", kValidHead + kSphere + fog + "sigma_a = [0.1, -1, 0]\n", 21,
+         "media.fog.sigma_a", "must not be negative"},
+        {"nan", kValidHead + kSphere + fog + "sigma_s = [nan, 0, 0]\n", 21, "media.fog.sigma_s",
+         "finite"},
+        {"huge", kValidHead + kSphere + fog + "sigma_s = [1e30, 0, 0]\n", 21, "media.fog.sigma_s",
+         "at most 1e9"},
+        {"g is 1", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\ng = 1\n", 22, "media.fog.g",
+         "must be in (-1, 1)"},
+        {"g is -1", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\ng = -1.0\n", 22,
+         "media.fog.g", "must be in (-1, 1)"},
+        {"unknown field", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\nsigma_x = 2\n", 22,
+         "media.fog.sigma_x", "did you mean"},
+        {"not a table", kValidHead + kSphere + "[media]\nfog = 3\n", 20, "media.fog",
+         "expected a table"},
+        {"unknown outside medium", "medium = \"fgo\"\n" + kValidHead + kSphere + fog +
+                                       "sigma_s = [1, 1, 1]\n",
+         1, "medium", "unknown medium 'fgo'; did you mean 'fog'"},
+        {"no media at all", "medium = \"fog\"\n" + kValidHead + kSphere, 1, "medium",
+         "the scene defines no [media.*]"},
+        {"interior unknown",
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"sphere\"\nmaterial = "
+                            "\"white\"\ncenter = [0, 0, 0]\nradius = 1\ninterior = \"milk\"\n",
+         21, "shapes[0].interior", "unknown medium 'milk'"},
+        {"interior of a quad",
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"quad\"\nmaterial = "
+                            "\"white\"\ncorner = [0, 0, 0]\nedge_u = [1, 0, 0]\nedge_v = [0, 1, "
+                            "0]\ninterior = \"fog\"\n",
+         22, "shapes[0].interior", "not a closed surface"},
+        {"closed mesh",
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"mesh\"\nmaterial = "
+                            "\"white\"\ninterior = \"fog\"\n" + tetrahedron,
+         0, "", "(no error)"},
+        {"open mesh",
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"mesh\"\nmaterial = "
+                            "\"white\"\ninterior = \"fog\"\n"
+                            "vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]\n"
+                            "faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2]]\n",
+         19, "shapes[0].interior", "the mesh is not closed"},
+    };
+    for (const BadCase& c : cases) {
+        const std::string error = error_of(c.text);
+        SCOPED_TRACE(c.name + ": " + error);
+        if (c.message == "(no error)") {
+            EXPECT_EQ(error, "(no error)");
+            continue;
+        }
+        const std::string where = "bad.toml:" + std::to_string(c.line) + ": ";
+        EXPECT_EQ(error.rfind(where, 0), 0u) << "expected to start with " << where;
+        EXPECT_NE(error.find(": " + c.field + ": "), std::string::npos) << "field " << c.field;
+        EXPECT_NE(error.find(c.message), std::string::npos) << "expected " << c.message;
+        EXPECT_EQ(error.find('\n'), std::string::npos) << "one line";
+    }
+}
+
+TEST(SceneFile, MediaFillSpaceAndTheInsidesOfClosedShapes) {
+    const std::string text = "medium = \"fog\"\n" + kValidHead + R"(
+[media.fog]
+type = "homogeneous"
+sigma_a = [0.01, 0.02, 0.03]
+sigma_s = [0.1, 0.1, 0.1]
+g = 0.3
+
+[media.milk]
+type = "homogeneous"
+sigma_s = [40, 35, 30]
+g = 0.8
+
+[media.unused]
+type = "homogeneous"
+sigma_a = [1, 1, 1]
+
+[[shapes]]
+type = "sphere"
+material = "white"
+center = [0, 0, 0]
+radius = 1
+interior = "milk"
+
+[[shapes]]
+type = "quad"
+material = "white"
+corner = [-5, -1, -5]
+edge_u = [0, 0, 10]
+edge_v = [10, 0, 0]
+
+[[shapes]]
+type = "box"
+material = "white"
+min = [2, -1, 0]
+max = [3, 0, 1]
+interior = "milk"
+)";
+    const Scene scene = build_scene(parse_scene_string(text, "media.toml"));
+    ASSERT_EQ(scene.media().size(), 3u);
+    ASSERT_TRUE(scene.outside_medium().has_value());
+    const Medium& fog = scene.media()[*scene.outside_medium()];
+    EXPECT_EQ(fog.name, "fog");
+    EXPECT_EQ(fog.sigma_a, Color(0.01f, 0.02f, 0.03f));
+    EXPECT_EQ(fog.sigma_s, Color(0.1f));
+    EXPECT_FLOAT_EQ(fog.g, 0.3f);
+    const std::optional<uint32_t> in_sphere = scene.interior_of(PrimRef(ShapeKind::Sphere, 0));
+    ASSERT_TRUE(in_sphere.has_value());
+    EXPECT_EQ(scene.media()[*in_sphere].name, "milk");
+    EXPECT_FALSE(scene.interior_of(PrimRef(ShapeKind::Quad, 0)).has_value());  // the floor
+    for (uint32_t face = 1; face <= 6; ++face) {                               // the box's six
+        const std::optional<uint32_t> in_box = scene.interior_of(PrimRef(ShapeKind::Quad, face));
+        ASSERT_TRUE(in_box.has_value()) << face;
+        EXPECT_EQ(*in_box, *in_sphere);
+    }
+    EXPECT_TRUE(scene.contents().media);
+    // The summary names the media in use, not the unused one.
+    const std::string summary = scene.media_summary();
+    EXPECT_NE(summary.find("fog (fills space"), std::string::npos) << summary;
+    EXPECT_NE(summary.find("milk (inside 2 shape(s)"), std::string::npos) << summary;
+    EXPECT_EQ(summary.find("unused"), std::string::npos) << summary;
+
+    // A scene that only defines media, or whose medium is a vacuum, has none to speak of.
+    const Scene defined_only = build_scene(parse_scene_string(
+        kValidHead + kSphere + "[media.fog]\ntype = \"homogeneous\"\nsigma_s = [1, 1, 1]\n",
+        "defined.toml"));
+    EXPECT_FALSE(defined_only.contents().media);
+    const Scene vacuum = build_scene(parse_scene_string(
+        "medium = \"air\"\n" + kValidHead + kSphere +
+            "[media.air]\ntype = \"homogeneous\"\nsigma_s = [0, 0, 0]\n",
+        "vacuum.toml"));
+    EXPECT_FALSE(vacuum.contents().media);
+    EXPECT_TRUE(vacuum.media_summary().empty());
+}

@@ -248,7 +248,13 @@ int main(int argc, char** argv) {
     }
     try {
         const SceneDescription d = describe_scene_file(find_scene_file(scene_file));
-        const Scene scene = build_scene(d);
+        Scene scene = build_scene(d);
+        // The export has no media yet: said in its notes and on stderr, never dropped unsaid.
+        if (scene.contents().media) {
+            scene.notes.push_back("media are not exported (the Blender bridge has none yet): " +
+                                  scene.media_summary());
+            std::cerr << "scene_export: warning: " << scene.notes.back() << "\n";
+        }
         const std::string json = export_scene(d, scene);
         if (out.empty()) {
             std::cout << json;

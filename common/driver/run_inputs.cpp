@@ -118,6 +118,11 @@ void prepare_run(const CommonOptions& o, const Lesson& lesson, RunInputs& in) {
     in.reference = read_reference(o, in.scene);
     in.model = lesson.make_model(in.scene);
     in.model->notes.insert(in.model->notes.end(), in.scene.notes.begin(), in.scene.notes.end());
+    if (!in.model->renders_media && in.scene.contents().media)
+        in.model->biased_because.push_back(
+            "the scene's media are ignored: light travels unchanged between surfaces, as in a "
+            "vacuum, and the shapes that hold them are seen as their surfaces alone (" +
+            in.scene.media_summary() + ")");
     // What a part belongs to, taken now: a scene edited while the part renders is not its scene.
     if (o.is_part()) in.scene_hash = scene_files_hash(in.scene, o.limits);
     if (in.model->splats && o.part.crops(in.scene))

@@ -1,9 +1,13 @@
 // Stage 2 of scene loading: SceneDescription -> Scene.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "io/gltf_file.h"
 #include "io/image.h"
@@ -365,12 +369,62 @@ Materials add_materials(const SceneDescription& d, const InputLimits& limits,
     return materials;
 }
 
-void add_shapes(const SceneDescription& d, const Materials& materials, const InputLimits& limits,
+// The scene's media, by name for the shapes to find; the one that fills space, if named.
+std::map<std::string, uint32_t> add_media(const SceneDescription& d, Scene& scene) {
+    std::map<std::string, uint32_t> ids;
+    for (const MediumDescription& m : d.media) ids[m.medium.name] = scene.add_medium(m.medium);
+    if (!d.medium.empty()) scene.set_outside_medium(ids.at(d.medium));  // checked by stage 1
+    return ids;
+}
+
+// Whether the triangles [first, end) close a surface: every edge, between vertices at the same
+// place (a mesh may repeat a position for its normals or texture coordinates), is shared by
+// exactly two of them. Returns a description of the first open edge found, if any.
+std::optional<std::string> open_edge(const Scene& scene, uint32_t first, uint32_t end) {
+    std::map<std::array<float, 3>, uint32_t> place_ids;
+    auto place = [&](uint32_t v) {
+        const Vec3& p = scene.positions()[v];
+        return place_ids.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(place_ids.size()))
+            .first->second;
+    };
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;
+    for (uint32_t i = first; i < end; ++i) {
+        const Triangle& t = scene.triangles()[i];
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = place(t.v[k]), b = place(t.v[(k + 1) % 3]);
+            ++edges[{std::min(a, b), std::max(a, b)}];
+        }
+    }
+    for (const auto& [edge, count] : edges)
+        if (count != 2)
+            return "an edge is shared by " + std::to_string(count) +
+                   " triangle(s), where a closed surface has two at every edge";
+    return std::nullopt;
+}
+
+// A shape's interior: the primitives it added since `before` enclose its medium.
+void set_interior(const ShapeDescription& s, const Scene::PrimitiveCounts& before,
+                  const std::map<std::string, uint32_t>& media, Scene& scene) {
+    if (s.interior.empty()) return;
+    if (s.type == ShapeDescription::Type::Mesh) {
+        const uint32_t end = scene.primitive_counts().triangles;
+        if (std::optional<std::string> open = open_edge(scene, before.triangles, end))
+            throw InputError(s.interior_where.file, s.interior_where.line,
+                             s.interior_where.field,
+                             "the mesh is not closed (" + *open +
+                                 "): only a closed surface has an inside to fill with a medium");
+    }
+    scene.set_interior(before, media.at(s.interior));  // the name checked by stage 1
+}
+
+void add_shapes(const SceneDescription& d, const Materials& materials,
+                const std::map<std::string, uint32_t>& media, const InputLimits& limits,
                 TextureCache& textures, Scene& scene) {
     MeshCache meshes;
     GltfCache gltfs;
     for (const ShapeDescription& s : d.shapes) {
         const int material = materials.resolve(s);
+        const Scene::PrimitiveCounts before = scene.primitive_counts();
         switch (s.type) {
             case ShapeDescription::Type::Sphere:
                 scene.add_sphere({s.center, s.radius}, static_cast<uint32_t>(material));
@@ -392,6 +446,7 @@ void add_shapes(const SceneDescription& d, const Materials& materials, const Inp
                 add_gltf(scene, s, material, limits, gltfs, textures);
                 break;
         }
+        set_interior(s, before, media, scene);
     }
 }
 
@@ -420,7 +475,8 @@ Scene build_scene(const SceneDescription& d, const BuildOptions& options) {
                           static_cast<float>(scene.width) / static_cast<float>(scene.height));
     TextureCache textures;
     const Materials materials = add_materials(d, options.limits, textures, scene);
-    add_shapes(d, materials, options.limits, textures, scene);
+    const std::map<std::string, uint32_t> media = add_media(d, scene);
+    add_shapes(d, materials, media, options.limits, textures, scene);
     for (const PointLightDescription& l : d.point_lights) scene.add_point_light(l.light);
     for (const DirectionalLightDescription& l : d.directional_lights)
         scene.add_directional_light(l.light);

@@ -1,6 +1,6 @@
 // Stage 1 of scene loading: TOML text -> SceneDescription, with every value checked: the top
-// level and its small tables ([image], [camera], [background], [[lights]]) here, each material
-// and shape by its own file (scene_tables.h).
+// level and its small tables ([image], [camera], [background], [[lights]], `medium`) here, each
+// material, medium and shape by its own file (scene_tables.h).
 #include "io/scene_file.h"
 
 #include <toml++/toml.h>
@@ -136,6 +136,18 @@ void parse_light(const toml::table& t, const std::string& file, size_t index,
     d.point_lights.push_back(p);
 }
 
+// A medium's name, as the top-level `medium` or a shape's `interior` gives it: one of the
+// [media.NAME] tables.
+void check_medium_name(const std::string& name, const SourceLocation& where,
+                       const SceneDescription& d) {
+    std::vector<std::string> names;
+    for (const MediumDescription& m : d.media) names.push_back(m.medium.name);
+    if (std::find(names.begin(), names.end(), name) != names.end()) return;
+    throw InputError(where.file, where.line, where.field,
+                     "unknown medium '" + name + "'" + did_you_mean(name, names) +
+                         (names.empty() ? " (the scene defines no [media.*])" : known_names(names)));
+}
+
 SceneDescription parse_table(const toml::table& root, const std::string& file) {
     SceneDescription d;
     d.file = file;
@@ -153,14 +165,32 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
             d.materials.push_back(scene_file::parse_material(*node.as_table(), file, name));
         }
     }
+    if (top.has("media")) {
+        for (const auto& [key, node] : top.table("media")) {
+            const std::string name(key.str());
+            if (!node.is_table())
+                throw InputError(file, static_cast<int>(node.source().begin.line),
+                                 "media." + name,
+                                 "expected a table [media." + name + "] with a type");
+            d.media.push_back(scene_file::parse_medium(*node.as_table(), file, name));
+        }
+    }
+    if (top.has("medium")) {
+        d.medium = top.string("medium");
+        d.medium_where = top.where("medium");
+        check_medium_name(d.medium, d.medium_where, d);
+    }
     for_each_table(top, file, "shapes", [&](const toml::table& t, size_t i) {
         d.shapes.push_back(scene_file::parse_shape(t, file, i));
+        const ShapeDescription& s = d.shapes.back();
+        if (!s.interior.empty()) check_medium_name(s.interior, s.interior_where, d);
     });
     for_each_table(top, file, "lights", [&](const toml::table& t, size_t i) {
         parse_light(t, file, i, d);
     });
     top.reject_unknown(
-        {"description", "image", "camera", "background", "materials", "shapes", "lights"},
+        {"description", "image", "camera", "background", "materials", "media", "medium", "shapes",
+         "lights"},
         "the scene");
     if (d.shapes.empty() && d.point_lights.empty() && d.directional_lights.empty())
         throw InputError(file, 0, "shapes", "the scene is empty: no shapes and no lights");

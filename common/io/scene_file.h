@@ -17,6 +17,7 @@
 #include "geometry/transform.h"
 #include "io/input_file.h"
 #include "materials/material.h"
+#include "media/medium.h"
 #include "scene/scene.h"
 
 namespace lessons {
@@ -34,6 +35,11 @@ struct MaterialDescription {
     SourceLocation albedo_where;
 };
 
+struct MediumDescription {
+    Medium medium;
+    SourceLocation where;
+};
+
 struct ShapeDescription {
     enum class Type { Sphere, Quad, Box, Mesh, Gltf } type = Type::Sphere;
     // may be empty for an OBJ mesh whose faces name MTL materials, and a glTF's (which then keep
@@ -41,6 +47,9 @@ struct ShapeDescription {
     std::string material;
     SourceLocation where;
     SourceLocation material_where;
+    // The medium inside the shape (a closed one: sphere, box, closed mesh), or empty.
+    std::string interior;
+    SourceLocation interior_where;
     // sphere
     Vec3 center{0.0f};
     float radius = 1.0f;
@@ -90,6 +99,10 @@ struct SceneDescription {
     float background_rotate = 0.0f, background_strength = 1.0f;
     SourceLocation background_where;
     std::vector<MaterialDescription> materials;
+    std::vector<MediumDescription> media;
+    // The medium filling all space outside the shapes' interiors (the camera's), or empty.
+    std::string medium;
+    SourceLocation medium_where;
     std::vector<ShapeDescription> shapes;
     std::vector<PointLightDescription> point_lights;  // point and spot lights
     std::vector<DirectionalLightDescription> directional_lights;

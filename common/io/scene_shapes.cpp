@@ -1,5 +1,6 @@
 // The [[shapes]] tables of a scene file: each shape type's fields (sphere, quad, box, mesh,
-// glTF), read and checked, with its material and its transform (docs/scene-format.md).
+// glTF), read and checked, with its material, its interior medium and its transform
+// (docs/scene-format.md).
 #include <toml++/toml.h>
 
 #include <filesystem>
@@ -161,6 +162,16 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
                            known_names(types));
     }
     allowed.insert(allowed.end(), fields.begin(), fields.end());
+    if (r.has("interior")) {
+        // Only a closed surface has an inside (a mesh's closure is checked when it is built).
+        if (type != "sphere" && type != "box" && type != "mesh")
+            r.fail("interior", "a " + type + " is not a closed surface and has no inside: give "
+                               "the medium to a sphere, a box or a closed mesh");
+        s.interior = r.string("interior");
+        s.interior_where = r.where("interior");
+        if (s.interior.empty()) r.fail("interior", "must name a medium, got an empty string");
+    }
+    allowed.push_back("interior");
     r.reject_unknown(allowed, "a " + type);
     return s;
 }

@@ -1,6 +1,6 @@
 // The scene parser's files (private to common/io/): scene_file.cpp reads the top level of a
-// scene file and hands each [materials.NAME] table to scene_materials.cpp and each [[shapes]]
-// table to scene_shapes.cpp, which places spheres and quads with scene_transforms.cpp. Each reads
+// scene file and hands each [materials.NAME] table to scene_materials.cpp, each [media.NAME]
+// table to scene_media.cpp and each [[shapes]] table to scene_shapes.cpp, which places spheres and quads with scene_transforms.cpp. Each reads
 // its table with a TableReader (table_reader.h): every failure an InputError at file:line:field.
 #pragma once
 
@@ -18,6 +18,10 @@ namespace lessons::scene_file {
 // is refused naming its owner. (scene_materials.cpp)
 MaterialDescription parse_material(const toml::table& t, const std::string& file,
                                    const std::string& name);
+
+// [media.NAME]: the medium's type and coefficients. (scene_media.cpp)
+MediumDescription parse_medium(const toml::table& t, const std::string& file,
+                               const std::string& name);
 
 // The index-th [[shapes]] table: its type's fields, its material and its transform; spheres and
 // quads come placed. (scene_shapes.cpp)

@@ -56,6 +56,9 @@ public:
     bool passes = false;
     // Whether sample() splats; a model that splats also sets `passes`.
     bool splats = false;
+    // Whether the model renders participating media (common/media/). One that does not, in a
+    // scene that has them, is biased, and says so: the driver adds that to biased_because.
+    bool renders_media = false;
     // Called before the samples of index k of every pixel, with no sample in flight, for a
     // model rendered in passes: a model that prepares something per pass (lesson 6 traces its
     // photons) does it here, on settings.threads threads, and keeps it for sample() (so state it

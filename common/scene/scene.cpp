@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "accel/parallel.h"
@@ -230,6 +231,65 @@ std::vector<LightRef> Scene::lights() const {
     return lights;
 }
 
+uint32_t Scene::add_medium(const Medium& m) {
+    media_.push_back(m);
+    return static_cast<uint32_t>(media_.size() - 1);
+}
+
+Scene::PrimitiveCounts Scene::primitive_counts() const {
+    return {static_cast<uint32_t>(spheres_.size()), static_cast<uint32_t>(quads_.size()),
+            static_cast<uint32_t>(triangles_.size())};
+}
+
+void Scene::set_interior(const PrimitiveCounts& before, uint32_t medium) {
+    const PrimitiveCounts now = primitive_counts();
+    if (now.spheres > before.spheres)
+        interiors_.push_back({ShapeKind::Sphere, before.spheres, now.spheres, medium});
+    if (now.quads > before.quads)
+        interiors_.push_back({ShapeKind::Quad, before.quads, now.quads, medium});
+    if (now.triangles > before.triangles)
+        interiors_.push_back({ShapeKind::Triangle, before.triangles, now.triangles, medium});
+}
+
+std::optional<uint32_t> Scene::interior_of(PrimRef prim) const {
+    for (const Interior& i : interiors_)
+        if (i.kind == prim.kind() && prim.index() >= i.first && prim.index() < i.end)
+            return i.medium;
+    return std::nullopt;
+}
+
+std::vector<int> Scene::shapes_inside_each_medium() const {
+    std::vector<int> shapes(media_.size(), 0);
+    for (const Interior& i : interiors_) ++shapes[i.medium];
+    return shapes;
+}
+
+std::string Scene::media_summary() const {
+    const std::vector<int> shapes_inside = shapes_inside_each_medium();
+    auto colour = [](const Color& c) {
+        std::ostringstream s;
+        s << "[" << c.x << ", " << c.y << ", " << c.z << "]";
+        return s.str();
+    };
+    std::string out;
+    for (uint32_t k = 0; k < media_.size(); ++k) {
+        const Medium& m = media_[k];
+        const bool outside = outside_medium_ == k;
+        if (m.is_vacuum() || (!outside && shapes_inside[k] == 0)) continue;
+        std::ostringstream s;
+        s << m.name << " (";
+        if (outside) s << "fills space";
+        if (outside && shapes_inside[k] > 0) s << " and ";
+        // Each shape with an interior added one range (a shape adds primitives of one kind).
+        if (shapes_inside[k] > 0) s << "inside " << shapes_inside[k] << " shape(s)";
+        s << ": sigma_a " << colour(m.sigma_a) << ", sigma_s " << colour(m.sigma_s)
+          << " per unit length, g " << m.g << ")";
+        if (!out.empty()) out += "; ";
+        out += s.str();
+    }
+    return out;
+}
+
 SceneContents Scene::contents() const {
     SceneContents c;
     for (const LightRef& light : lights()) {
@@ -253,6 +313,9 @@ SceneContents Scene::contents() const {
     for (uint32_t m : sphere_materials_) c.delta_materials |= delta(m);
     for (uint32_t m : quad_materials_) c.delta_materials |= delta(m);
     for (const Triangle& t : triangles_) c.delta_materials |= delta(t.material);
+    const std::vector<int> shapes_inside = shapes_inside_each_medium();
+    for (uint32_t k = 0; k < media_.size(); ++k)
+        c.media |= !media_[k].is_vacuum() && (outside_medium_ == k || shapes_inside[k] > 0);
     return c;
 }
 

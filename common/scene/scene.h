@@ -20,6 +20,7 @@
 #include "geometry/shapes.h"
 #include "geometry/spawn.h"
 #include "materials/material.h"
+#include "media/medium.h"
 #include "scene/camera.h"
 #include "scene/environment.h"
 #include "scene/light_types.h"
@@ -61,6 +62,7 @@ struct SceneContents {
     bool environment = false;          // a background of nonzero radiance
     bool delta_materials = false;      // a mirror or glass on some shape
     bool point_light_in_view = false;  // a point light the camera sees (unless something hides it)
+    bool media = false;  // a medium that is not a vacuum fills space or a shape's interior
 };
 
 // Rays traced by the calling thread since it started: the render loop reads the difference.
@@ -78,6 +80,17 @@ public:
                   const std::vector<Vec2>& uvs, const std::vector<Triangle>& triangles);
     void add_point_light(const PointLight& l) { point_lights_.push_back(l); }
     void add_directional_light(const DirectionalLight& l) { directional_lights_.push_back(l); }
+    // Media: the one that fills all space outside the shapes' interiors (the camera's), and the
+    // one inside each closed shape that has one (docs/scene-format.md, "Media").
+    uint32_t add_medium(const Medium& m);
+    void set_outside_medium(uint32_t medium) { outside_medium_ = medium; }
+    // How many primitives of each kind the scene holds: before adding a shape, to say afterwards
+    // that the primitives it added enclose a medium (set_interior).
+    struct PrimitiveCounts {
+        uint32_t spheres = 0, quads = 0, triangles = 0;
+    };
+    PrimitiveCounts primitive_counts() const;
+    void set_interior(const PrimitiveCounts& before, uint32_t medium);
     // Replaces material i's reflectance parameters. Its emission must stay as it was: the area
     // lights were collected from it (--albedo changes only reflectances).
     void replace_material(uint32_t i, const Material& m);
@@ -126,8 +139,16 @@ public:
     Bounds3 bounds() const { return bvh_.bounds(); }
     // Bytes held for intersection: shapes, vertices, triangles and the BVH (not materials).
     size_t geometry_bytes() const;
-    // The kinds of lights, and whether any shape has a delta material (mirror, glass).
+    // The kinds of lights, whether any shape has a delta material (mirror, glass), and whether
+    // the scene has media.
     SceneContents contents() const;
+    const std::vector<Medium>& media() const { return media_; }
+    std::optional<uint32_t> outside_medium() const { return outside_medium_; }
+    // The medium inside the closed shape that primitive `prim` belongs to, if it has one.
+    std::optional<uint32_t> interior_of(PrimRef prim) const;
+    // The media in use, each named with where it is and its coefficients, for notes (empty
+    // without media).
+    std::string media_summary() const;
 
     // ---- what is seen and how ----
     Camera camera;
@@ -159,6 +180,8 @@ private:
     // Build steps give each thread at least this many primitives (accel/parallel.h).
     static constexpr size_t kMinBuildPart = 16384;
     AreaLight area_light_of(PrimRef p, uint32_t material) const;
+    // How many shapes hold each medium as their interior.
+    std::vector<int> shapes_inside_each_medium() const;
 
     // Tests the primitive at position k of the BVH's order.
     bool intersect_primitive(uint32_t k, const Ray& ray, const WatertightRay& wr, float t_max,
@@ -198,6 +221,17 @@ private:
 
     std::vector<PointLight> point_lights_;
     std::vector<DirectionalLight> directional_lights_;
+
+    // The media, and which primitives enclose which (a range of one kind per shape: a scene
+    // without interiors pays nothing per primitive).
+    struct Interior {
+        ShapeKind kind;
+        uint32_t first, end;  // indices into the kind's array
+        uint32_t medium;
+    };
+    std::vector<Medium> media_;
+    std::optional<uint32_t> outside_medium_;
+    std::vector<Interior> interiors_;
     std::vector<AreaLight> area_lights_;
     Bvh bvh_;
 };
