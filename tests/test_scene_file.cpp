@@ -555,6 +555,30 @@ TEST(EnvironmentMapFile, NanAndLargeNegativeTexelsAreRefused) {
     }
 }
 
+namespace {
+
+// A unit cube as six quads, each with four vertices of its own (24 in all), as exporters write
+// meshes whose faces have their own normals: closed, although no two faces share an index.
+std::string cube_of_separate_faces() {
+    const int faces[6][4][3] = {
+        {{0, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, 0, 0}}, {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}},
+        {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}}, {{0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}},
+        {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}}, {{1, 0, 0}, {1, 1, 0}, {1, 1, 1}, {1, 0, 1}}};
+    std::string vertices = "vertices = [", indices = "faces = [";
+    for (int f = 0; f < 6; ++f) {
+        for (int k = 0; k < 4; ++k)
+            vertices += "[" + std::to_string(faces[f][k][0]) + ", " +
+                        std::to_string(faces[f][k][1]) + ", " + std::to_string(faces[f][k][2]) +
+                        "]" + (f == 5 && k == 3 ? "" : ", ");
+        indices += "[" + std::to_string(4 * f) + ", " + std::to_string(4 * f + 1) + ", " +
+                   std::to_string(4 * f + 2) + ", " + std::to_string(4 * f + 3) + "]" +
+                   (f == 5 ? "" : ", ");
+    }
+    return vertices + "]\n" + indices + "]\n";
+}
+
+}  // namespace
+
 TEST(SceneFile, MediaMistakesNameFileLineAndField) {
     // After the head and the sphere, lines 19 and 20; after the head alone, 13 and 14.
     const std::string fog = "[media.fog]\ntype = \"homogeneous\"\n";
@@ -571,11 +595,27 @@ TEST(SceneFile, MediaMistakesNameFileLineAndField) {
         {"nan", kValidHead + kSphere + fog + "sigma_s = [nan, 0, 0]\n", 21, "media.fog.sigma_s",
          "finite"},
         {"huge", kValidHead + kSphere + fog + "sigma_s = [1e30, 0, 0]\n", 21, "media.fog.sigma_s",
-         "at most 1e9"},
+         "at most 1e9 per unit length"},
         {"g is 1", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\ng = 1\n", 22, "media.fog.g",
-         "must be in (-1, 1)"},
+         "must be in [-0.999, 0.999]"},
+        {"g rounds to 1", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\ng = 0.99999999\n", 22,
+         "media.fog.g", "must be in [-0.999, 0.999]"},
         {"g is -1", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\ng = -1.0\n", 22,
-         "media.fog.g", "must be in (-1, 1)"},
+         "media.fog.g", "must be in [-0.999, 0.999]"},
+        {"short colour", kValidHead + kSphere + fog + "sigma_s = [1, 1]\n", 21, "media.fog.sigma_s",
+         "expected [r, g, b]"},
+        {"medium after a table", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\n" +
+                                     "[[shapes]]\ntype = \"sphere\"\nmaterial = \"white\"\n"
+                                     "center = [0, 0, 0]\nradius = 1\nmedium = \"fog\"\n",
+         27, "shapes[1].medium", "belongs to the top level"},
+        {"interior of a glTF shape",
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"gltf\"\nfile = "
+                            "\"x.glb\"\ninterior = \"fog\"\n",
+         19, "shapes[0].interior", "is not read for a glTF shape"},
+        {"interior empty",
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"sphere\"\nmaterial = "
+                            "\"white\"\ncenter = [0, 0, 0]\nradius = 1\ninterior = \"\"\n",
+         21, "shapes[0].interior", "must name a medium"},
         {"unknown field", kValidHead + kSphere + fog + "sigma_s = [1, 1, 1]\nsigma_x = 2\n", 22,
          "media.fog.sigma_x", "did you mean"},
         {"not a table", kValidHead + kSphere + "[media]\nfog = 3\n", 20, "media.fog",
@@ -597,6 +637,10 @@ TEST(SceneFile, MediaMistakesNameFileLineAndField) {
         {"closed mesh",
          kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"mesh\"\nmaterial = "
                             "\"white\"\ninterior = \"fog\"\n" + tetrahedron,
+         0, "", "(no error)"},
+        {"closed mesh of repeated positions",  // a cube whose faces each have their own corners
+         kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"mesh\"\nmaterial = "
+                            "\"white\"\ninterior = \"fog\"\n" + cube_of_separate_faces(),
          0, "", "(no error)"},
         {"open mesh",
          kValidHead + fog + "sigma_s = [1, 1, 1]\n[[shapes]]\ntype = \"mesh\"\nmaterial = "

@@ -6,8 +6,10 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "io/gltf_file.h"
 #include "io/image.h"
@@ -382,10 +384,18 @@ std::map<std::string, uint32_t> add_media(const SceneDescription& d, Scene& scen
 // exactly two of them. Returns a description of the first open edge found, if any.
 std::optional<std::string> open_edge(const Scene& scene, uint32_t first, uint32_t end) {
     std::map<std::array<float, 3>, uint32_t> place_ids;
+    std::vector<Vec3> places;
     auto place = [&](uint32_t v) {
         const Vec3& p = scene.positions()[v];
-        return place_ids.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(place_ids.size()))
-            .first->second;
+        const auto [at, added] =
+            place_ids.try_emplace({p.x, p.y, p.z}, static_cast<uint32_t>(places.size()));
+        if (added) places.push_back(p);
+        return at->second;
+    };
+    auto text = [](const Vec3& p) {
+        std::ostringstream s;
+        s << "[" << p.x << ", " << p.y << ", " << p.z << "]";
+        return s.str();
     };
     std::map<std::pair<uint32_t, uint32_t>, int> edges;
     for (uint32_t i = first; i < end; ++i) {
@@ -397,7 +407,9 @@ std::optional<std::string> open_edge(const Scene& scene, uint32_t first, uint32_
     }
     for (const auto& [edge, count] : edges)
         if (count != 2)
-            return "an edge is shared by " + std::to_string(count) +
+            return "the edge from " + text(places[edge.first]) + " to " +
+                   text(places[edge.second]) +
+                   " is shared by " + std::to_string(count) +
                    " triangle(s), where a closed surface has two at every edge";
     return std::nullopt;
 }

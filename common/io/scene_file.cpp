@@ -145,7 +145,8 @@ void check_medium_name(const std::string& name, const SourceLocation& where,
     if (std::find(names.begin(), names.end(), name) != names.end()) return;
     throw InputError(where.file, where.line, where.field,
                      "unknown medium '" + name + "'" + did_you_mean(name, names) +
-                         (names.empty() ? " (the scene defines no [media.*])" : known_names(names)));
+                         (names.empty() ? " (the scene defines no [media.*])"
+                                        : known_names(names)));
 }
 
 SceneDescription parse_table(const toml::table& root, const std::string& file) {

@@ -164,6 +164,9 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
     allowed.insert(allowed.end(), fields.begin(), fields.end());
     if (r.has("interior")) {
         // Only a closed surface has an inside (a mesh's closure is checked when it is built).
+        if (type == "gltf")
+            r.fail("interior", "is not read for a glTF shape: give the medium to a sphere, a box "
+                               "or a closed mesh (type = \"mesh\", an OBJ file or inline faces)");
         if (type != "sphere" && type != "box" && type != "mesh")
             r.fail("interior", "a " + type + " is not a closed surface and has no inside: give "
                                "the medium to a sphere, a box or a closed mesh");
@@ -172,7 +175,8 @@ ShapeDescription parse_shape(const toml::table& t, const std::string& file, size
         if (s.interior.empty()) r.fail("interior", "must name a medium, got an empty string");
     }
     allowed.push_back("interior");
-    r.reject_unknown(allowed, "a " + type);
+    r.reject_unknown(allowed, "a " + type,
+                     {{"medium", "the top level: write medium = \"NAME\" before the first table"}});
     return s;
 }
 

@@ -1,7 +1,8 @@
 // The scene parser's files (private to common/io/): scene_file.cpp reads the top level of a
 // scene file and hands each [materials.NAME] table to scene_materials.cpp, each [media.NAME]
-// table to scene_media.cpp and each [[shapes]] table to scene_shapes.cpp, which places spheres and quads with scene_transforms.cpp. Each reads
-// its table with a TableReader (table_reader.h): every failure an InputError at file:line:field.
+// table to scene_media.cpp and each [[shapes]] table to scene_shapes.cpp, which places spheres
+// and quads with scene_transforms.cpp. Each reads its table with a TableReader (table_reader.h):
+// every failure an InputError at file:line:field.
 #pragma once
 
 #include <toml++/toml.h>

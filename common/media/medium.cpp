@@ -46,8 +46,10 @@ float free_flight_pdf(const Medium& medium, float t, bool collided, const Color&
 FreeFlight sample_free_flight(const Medium& medium, float t_max, float u_channel, float u_distance,
                               const Color& channel_weights) {
     const Color P = channel_probabilities(channel_weights);
-    // The channel: the first whose running sum of probabilities exceeds u_channel.
-    const int c = u_channel < P.x ? 0 : u_channel < P.x + P.y ? 1 : 2;
+    // The channel: the first whose running sum of probabilities exceeds u_channel; if rounding
+    // leaves u_channel past them all, the last channel that can be chosen.
+    int c = u_channel < P.x ? 0 : u_channel < P.x + P.y ? 1 : 2;
+    while (c > 0 && !(P[c] > 0.0f)) --c;
     const float sigma = medium.sigma_t()[c];
     FreeFlight f;
     // Inverting 1 - exp(-sigma t) = u: t = -log(1 - u) / sigma (infinite where sigma is 0).

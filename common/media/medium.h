@@ -10,9 +10,10 @@
 // that crosses a distance d unscattered is Beer and Lambert's transmittance T(d) = exp(-sigma_t d)
 // per channel. The radiance along a ray through it, to a surface at distance d (the volume
 // rendering equation, without emission by the medium):
-//   L(x, w) = T(d) L_surface + integral over t in [0, d] of T(t) sigma_s L_s(x + t w', w) dt,
-// L_s the in-scattered radiance, the phase function times the light arriving from every
-// direction. A path tracer estimates it by sampling the distance t to the next collision
+//   L(x, w) = T(d) L_surface + integral over t in [0, d] of T(t) sigma_s L_s(x - t w, w) dt,
+// for the light arriving at x from direction w (travelling along -w), L_s the in-scattered
+// radiance at the point t back along the ray: the phase function times the light arriving there
+// from every direction. A path tracer estimates it by sampling the distance t to the next collision
 // (sample_free_flight).
 #pragma once
 
@@ -52,7 +53,10 @@ struct Medium {
 // MIS"), so no channel's estimate divides by a density that is small where its light is large.
 // If t reaches t_max the ray passes, with probability sum_c P_c exp(-sigma_t,c t_max).
 //
-// Unbiased estimators from the sample, per channel (`transmittance` is T(t) as a colour):
+// Unbiased estimators from the sample, per channel, wherever the mixture density is positive
+// (a channel chosen with probability P_c > 0 and sigma_t,c > 0 covers every distance; with
+// P_c = 0 for a channel, the others' densities must still cover its light: any channel with
+// sigma_t > 0 does) (`transmittance` is T(t) as a colour):
 //   collided: transmittance sigma_s / pdf, times the in-scattered radiance at t;
 //   passed:   transmittance / pdf, times the light from the surface at t_max (or beyond).
 struct FreeFlight {

@@ -10,7 +10,8 @@
 //
 // Henyey and Greenstein (1941): p = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos(theta))^(3/2)), g in
 // (-1, 1) the mean cosine of theta: g > 0 forward (fog, clouds, milk), g < 0 back, 0 isotropic.
-// Sampling inverts its cumulative distribution in cos(theta) exactly (no rejection).
+// Sampling inverts its cumulative distribution in cos(theta) (no rejection): its density is the
+// phase function's to float precision.
 #pragma once
 
 #include <algorithm>
@@ -28,18 +29,19 @@ inline float henyey_greenstein(float cos_theta, float g) {
 
 // The cosine of the turning angle, distributed as henyey_greenstein(., g), from a uniform u.
 // Its cumulative distribution solved for cos(theta):
-// cos = (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2) / (2 g); isotropic (1 - 2 u mirrored to
-// 2 u - 1) when |g| is too small for that to keep its precision.
+// cos = (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2) / (2 g), in double: the numerator loses
+// about 1e-16 / |g| to cancellation. Below |g| = 1e-7 the density differs from isotropic by less
+// than a float resolves, and cos = 2 u - 1.
 inline float sample_henyey_greenstein_cos(float u, float g) {
-    if (std::abs(g) < 1e-3f) return std::clamp(2.0f * u - 1.0f, -1.0f, 1.0f);
-    const float s = (1.0f - g * g) / (1.0f - g + 2.0f * g * u);
-    return std::clamp((1.0f + g * g - s * s) / (2.0f * g), -1.0f, 1.0f);
+    if (std::abs(g) < 1e-7f) return std::clamp(2.0f * u - 1.0f, -1.0f, 1.0f);
+    const double gd = g, s = (1.0 - gd * gd) / (1.0 - gd + 2.0 * gd * u);
+    return static_cast<float>(std::clamp((1.0 + gd * gd - s * s) / (2.0 * gd), -1.0, 1.0));
 }
 
 struct PhaseSample {
-    Vec3 wi;        // towards where the light comes from
-    float p = 0.0f;  // p(wo, wi)
-    float pdf = 0.0f;  // per steradian: equal to p (the sampling is exact), kept apart so that
+    Vec3 wi;           // towards where the light comes from
+    float p = 0.0f;    // p(wo, wi)
+    float pdf = 0.0f;  // per steradian: p itself (the sampling follows p), kept apart so that
                        // an estimator reads p * L / pdf as it does f * cos * L / pdf
 };
 
@@ -59,8 +61,8 @@ public:
         const float cos_theta = sample_henyey_greenstein_cos(u.x, g_);
         const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - cos_theta * cos_theta));
         const float phi = 2.0f * kPi * u.y;
-        const Vec3 travel_before =
-            Frame(wo).to_world(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+        const Vec3 local(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta);
+        const Vec3 travel_before = Frame(wo).to_world(local);
         PhaseSample s;
         s.wi = -travel_before;
         s.p = s.pdf = henyey_greenstein(cos_theta, g_);
