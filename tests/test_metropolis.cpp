@@ -67,6 +67,50 @@ TEST(Metropolis, TheFurnaceIsItsClosedFormAndBIsTheImageMean) {
     }
 }
 
+TEST(Metropolis, ALambertPlaneUnderAUniformSkyIsRhoTimesTheSkyInEveryPixel) {
+    // The closed form lesson 3 checks (EveryEstimatorSeesTheUniformSky): a plane of albedo rho
+    // under a sky of radiance L, which it sees all of and nothing else, reflects rho L; a flat
+    // plane cannot see itself, so every path of two segments or more than one bounce carries
+    // nothing, and every pixel of a camera looking down at it is rho L. The light comes from the
+    // environment, which lesson 5's strategies reach three ways (a camera path escaping, a light
+    // sample, light tracing from the sky). Over K = 8 seeds of 64 passes each, the image mean and
+    // every pixel against rho L by Student's t with 7 degrees, Sidak over the pixels.
+    const float rho = 0.6f, L = 2.0f;
+    Scene scene;
+    scene.add_quad(Quad(Vec3(-50, 0, -50), Vec3(0, 0, 100), Vec3(100, 0, 0)),
+                   test::add_diffuse(scene, Color(rho)));
+    scene.background = Color(L);
+    scene.width = scene.height = 8;
+    scene.camera = Camera(Vec3(0.3f, 3, 0.2f), Vec3(0, 0, 0), Vec3(0, 0, 1), 40.0f, 1.0f);
+    scene.commit();
+    const size_t pixels = 64;
+    std::vector<std::vector<double>> per_pixel(pixels);
+    std::vector<double> means;
+    for (int seed = 0; seed < 8; ++seed) {
+        const MetropolisModel model(scene, MetropolisOptions{});
+        const RenderResult r =
+            render_scene(scene, model, 64, test::independent_settings(500 + seed));
+        EXPECT_EQ(r.nan_samples + r.inf_samples, 0u);
+        means.push_back(image_average(r.image));
+        for (size_t p = 0; p < pixels; ++p)
+            per_pixel[p].push_back(static_cast<double>(luminance(r.image.pixels[p])));
+    }
+    const double expected = static_cast<double>(rho) * L;
+    const test::MeanAndError m = test::mean_and_error(means);
+    std::printf("image %.5f +- %.5f, expected %.5f\n", m.mean, m.standard_error, expected);
+    EXPECT_LT(std::fabs(m.mean - expected) / m.standard_error,
+              test::student_t_quantile(test::sidak(0.01, 2), 7));
+    const double t_pixel =
+        test::student_t_quantile(test::sidak(0.01, static_cast<int>(pixels)), 7);
+    double worst = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+        const test::MeanAndError e = test::mean_and_error(per_pixel[p]);
+        worst = std::max(worst, std::fabs(e.mean - expected) / e.standard_error);
+    }
+    std::printf("worst pixel |t| %.2f, limit %.2f\n", worst, t_pixel);
+    EXPECT_LT(worst, t_pixel);
+}
+
 namespace {
 
 // Per pixel, K independent lesson 7 renders against one long lesson 5 render: the difference of
