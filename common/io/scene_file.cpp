@@ -92,6 +92,21 @@ void for_each_table(TableReader& top, const std::string& file, const std::string
     }
 }
 
+// Every table of a table of named tables ([materials.NAME], [media.NAME]), with its name; an
+// entry that is not a table is an error naming it.
+template <class ReadFn>
+void for_each_named_table(TableReader& top, const std::string& file, const std::string& key,
+                          ReadFn&& read) {
+    if (!top.has(key)) return;
+    for (const auto& [name_key, node] : top.table(key)) {
+        const std::string name(name_key.str());
+        if (!node.is_table())
+            throw InputError(file, static_cast<int>(node.source().begin.line), key + "." + name,
+                             "expected a table [" + key + "." + name + "] with a type");
+        read(*node.as_table(), name);
+    }
+}
+
 // A spot's cone from its half-angle to the edge (degrees) and its blend: the fraction of the
 // cone's 1 - cos over which it fades to nothing (Blender's spot blend; SpotCone::falloff).
 SpotCone spot_cone(TableReader& l, const Vec3& direction) {
@@ -156,26 +171,13 @@ SceneDescription parse_table(const toml::table& root, const std::string& file) {
     if (top.has("description")) d.description = top.string("description");
     read_image_and_camera(top, file, d);
     if (top.has("background")) read_background(top, file, d);
-    if (top.has("materials")) {
-        for (const auto& [key, node] : top.table("materials")) {
-            const std::string name(key.str());
-            if (!node.is_table())
-                throw InputError(file, static_cast<int>(node.source().begin.line),
-                                 "materials." + name,
-                                 "expected a table [materials." + name + "] with a type");
-            d.materials.push_back(scene_file::parse_material(*node.as_table(), file, name));
-        }
-    }
-    if (top.has("media")) {
-        for (const auto& [key, node] : top.table("media")) {
-            const std::string name(key.str());
-            if (!node.is_table())
-                throw InputError(file, static_cast<int>(node.source().begin.line),
-                                 "media." + name,
-                                 "expected a table [media." + name + "] with a type");
-            d.media.push_back(scene_file::parse_medium(*node.as_table(), file, name));
-        }
-    }
+    for_each_named_table(top, file, "materials",
+                         [&](const toml::table& t, const std::string& name) {
+                             d.materials.push_back(scene_file::parse_material(t, file, name));
+                         });
+    for_each_named_table(top, file, "media", [&](const toml::table& t, const std::string& name) {
+        d.media.push_back(scene_file::parse_medium(t, file, name));
+    });
     if (top.has("medium")) {
         d.medium = top.string("medium");
         d.medium_where = top.where("medium");
